@@ -1,0 +1,39 @@
+// Shared pieces of the command-line front end: global options, JSON reports,
+// and the registration functions of the subcommands (one file each).
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <functional>
+#include <string>
+
+namespace structmesh::cli {
+
+struct GlobalOptions {
+  bool quiet = false;
+  bool progress = false;
+  int threads = 0;  // 0: all cores
+  std::string json_path;
+};
+
+/// Each subcommand adds its options to `command` and returns the action to run after parsing;
+/// the action returns the process exit code (0 ok, 2 invalid input).
+using Action = std::function<int()>;
+
+Action add_check_command(CLI::App& command, const GlobalOptions& global);
+Action add_quality_command(CLI::App& command, const GlobalOptions& global);
+Action add_generate_command(CLI::App& command, const GlobalOptions& global);
+Action add_convert_command(CLI::App& command, const GlobalOptions& global);
+
+/// Adds --json, --quiet, --progress and --threads to a subcommand (they are also
+/// accepted before the subcommand name).
+void add_common_options(CLI::App& command, GlobalOptions& global);
+
+/// Writes the report atomically when --json was given.
+void write_json_report(const GlobalOptions& global, const nlohmann::json& report);
+
+/// stdout line unless --quiet.
+void say(const GlobalOptions& global, const std::string& text);
+
+}  // namespace structmesh::cli

@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# Builds the tests with AddressSanitizer + UndefinedBehaviorSanitizer and runs them all.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+"$root/scripts/install-deps.sh"
+build_dir=${BUILD_DIR:-$root/build-asan}
+# -O1 keeps the sanitized CGAL code fast enough; frame pointers give readable reports.
+cmake -S "$root" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" -DSTRUCTMESH_SANITIZE=ON -DSTRUCTMESH_WERROR=ON -DSTRUCTMESH_BENCH=OFF
+cmake --build "$build_dir" -j "$(nproc)"
+cd "$build_dir"
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+ctest --output-on-failure -j "$(nproc)" --timeout 900

@@ -1,0 +1,114 @@
+#!/usr/bin/env bash
+# End-to-end checks of the CLI. Usage: cli_test.sh STRUCTMESH DATA_DIR WORK_DIR
+# Each check runs a command and asserts its exit code and (optionally) output text.
+set -u
+sm=$1
+data=$2
+work=$3
+rm -rf "$work"
+mkdir -p "$work"
+passed=0
+failed=0
+
+# expect CODE PATTERN -- COMMAND...: exit code must be CODE; PATTERN (grep -E, may be
+# empty) must match the combined stdout+stderr.
+expect() {
+  local want=$1 pattern=$2
+  shift 3
+  local output code
+  output=$("$@" 2>&1)
+  code=$?
+  if [[ $code -ne $want ]]; then
+    echo "FAIL (exit $code, wanted $want): $*"
+    echo "$output" | tail -n 20
+    failed=$((failed + 1))
+  elif [[ -n $pattern ]] && ! grep -qE -- "$pattern" <<<"$output"; then
+    echo "FAIL (output lacks /$pattern/): $*"
+    echo "$output" | tail -n 20
+    failed=$((failed + 1))
+  else
+    passed=$((passed + 1))
+  fi
+}
+
+# jq-free JSON field check with python (the system one has json).
+json_field() { /usr/bin/python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(d$2)" "$1"; }
+
+# usage and help
+expect 0 "check" -- "$sm" --help
+expect 0 "--json" -- "$sm" check --help
+expect 2 "" -- "$sm"
+expect 2 "" -- "$sm" check
+expect 2 "" -- "$sm" frobnicate
+expect 2 "" -- "$sm" generate teapot -o "$work/x.geojson"
+
+# bad input: a clear one-line message naming the file, exit 2, never a crash
+expect 2 "missing\.obj.*cannot open" -- "$sm" check "$work/missing.obj"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n' >"$work/bad_index.obj"
+expect 2 "bad_index\.obj:4:" -- "$sm" check "$work/bad_index.obj"
+printf 'OFF\n3 1 0\n0 0 0\n1 0 nan\n0 1 0\n3 0 1 2\n' >"$work/nan.off"
+expect 2 "nan\.off:4:" -- "$sm" check "$work/nan.off"
+: >"$work/empty.stl"
+expect 2 "empty\.stl" -- "$sm" check "$work/empty.stl"
+printf 'solid x\n' >"$work/truncated.stl"
+expect 2 "truncated\.stl" -- "$sm" check "$work/truncated.stl"
+printf '{"type": "Polygon", "coordinates": [[[0,0],[1,0]' >"$work/broken.geojson"
+expect 2 "broken\.geojson" -- "$sm" check "$work/broken.geojson"
+expect 2 "unknown file extension" -- "$sm" check "$work/file.xyz"
+
+# an open surface is invalid as a solid; a closed tetrahedron is valid
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n' >"$work/tet.obj"
+expect 0 "genus +0" -- "$sm" check "$work/tet.obj" --json "$work/tet.json"
+[[ $(json_field "$work/tet.json" "['genus']") == 0 ]] && passed=$((passed + 1)) || { echo "FAIL: tet genus"; failed=$((failed + 1)); }
+head -n 7 "$work/tet.obj" >"$work/open.obj"
+expect 2 "open-edge|boundary" -- "$sm" check "$work/open.obj"
+
+# generated regions are valid, written in every region format, and re-read
+expect 0 "wrote" -- "$sm" generate key --segments 500 -o "$work/key.geojson" -o "$work/key.poly" -o "$work/key.svg"
+expect 0 "holes.* 1" -- "$sm" check "$work/key.geojson"
+expect 0 "" -- "$sm" check "$work/key.poly"
+expect 0 "wrote" -- "$sm" generate pipe --segments 900 -o "$work/pipe.geojson" --json "$work/pipe.json"
+[[ $(json_field "$work/pipe.json" "['holes']") == 9 ]] && passed=$((passed + 1)) || { echo "FAIL: pipe holes"; failed=$((failed + 1)); }
+grep -q "<svg" "$work/key.svg" && passed=$((passed + 1)) || { echo "FAIL: key.svg"; failed=$((failed + 1)); }
+
+# quality: unit cube hex mesh via MEDIT -> perfect, and its JSON
+cat >"$work/cube.mesh" <<'MESH'
+MeshVersionFormatted 2
+Dimension 3
+Vertices
+8
+0 0 0 0
+1 0 0 0
+1 1 0 0
+0 1 0 0
+0 0 1 0
+1 0 1 0
+1 1 1 0
+0 1 1 0
+Hexahedra
+1
+1 2 3 4 5 6 7 8 0
+End
+MESH
+expect 0 "hexahedra" -- "$sm" quality "$work/cube.mesh" --json "$work/cube.json" -o "$work/cube.vtu"
+[[ $(json_field "$work/cube.json" "['scaled_jacobian']['min']") == 1.0 ]] && passed=$((passed + 1)) || { echo "FAIL: cube SJ"; failed=$((failed + 1)); }
+expect 0 "" -- "$sm" convert "$work/cube.mesh" -o "$work/cube.msh"
+expect 0 "" -- "$sm" check "$work/cube.msh"
+expect 2 "holds only triangles" -- "$sm" quality "$work/tet.obj"
+# nothing half-written: a failed write leaves no output behind
+expect 1 "" -- "$sm" convert "$work/cube.mesh" -o "$work/no-such-dir/cube.vtu"
+[[ ! -e "$work/no-such-dir" ]] && passed=$((passed + 1)) || { echo "FAIL: partial output"; failed=$((failed + 1)); }
+
+# real data: valid, open and self-intersecting models are told apart
+if [[ -d "$data/surfaces" ]]; then
+  expect 0 "genus +1" -- "$sm" check "$data/surfaces/rocker-arm.obj"
+  expect 2 "self-intersections +32" -- "$sm" check "$data/surfaces/tosca_centaur.off"
+  expect 2 "closed +no" -- "$sm" check "$data/surfaces/tosca_dog0.off"
+  expect 0 "" -- "$sm" check "$data/regions/west_bay_galveston.geojson"
+else
+  echo "FAIL: test data folder $data is missing (set STRUCTMESH_DATA)"
+  failed=$((failed + 1))
+fi
+
+echo "$passed passed, $failed failed"
+[[ $failed -eq 0 ]]

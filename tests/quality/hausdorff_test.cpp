@@ -1,0 +1,110 @@
+// Hausdorff distance (D_g of §5.3) on cases with exact answers.
+#include "structmesh/error.hpp"
+#include "structmesh/quality.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+
+namespace structmesh {
+namespace {
+
+// Icosahedron subdivided `levels` times, vertices on the unit sphere.
+TriMesh icosphere(int levels) {
+  const double t = (1 + std::sqrt(5.0)) / 2;
+  TriMesh mesh;
+  for (const Vec3& p :
+       {Vec3(-1, t, 0), Vec3(1, t, 0), Vec3(-1, -t, 0), Vec3(1, -t, 0), Vec3(0, -1, t), Vec3(0, 1, t), Vec3(0, -1, -t),
+        Vec3(0, 1, -t), Vec3(t, 0, -1), Vec3(t, 0, 1), Vec3(-t, 0, -1), Vec3(-t, 0, 1)})
+    mesh.points.push_back(p.normalized());
+  mesh.triangles = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                    {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+                    {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+  for (int level = 0; level < levels; ++level) {
+    std::map<std::pair<Index, Index>, Index> midpoints;
+    const auto midpoint = [&](Index a, Index b) {
+      const auto [it, inserted] = midpoints.emplace(std::minmax(a, b), static_cast<Index>(mesh.points.size()));
+      if (inserted) mesh.points.push_back((mesh.points[a] + mesh.points[b]).normalized());
+      return it->second;
+    };
+    std::vector<std::array<Index, 3>> finer;
+    for (const auto& [a, b, c] : mesh.triangles) {
+      const Index ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
+      finer.insert(finer.end(), {{a, ab, ca}, {b, bc, ab}, {c, ca, bc}, {ab, bc, ca}});
+    }
+    mesh.triangles = finer;
+  }
+  return mesh;
+}
+
+TriMesh rectangle(double x0, double x1, double y0, double y1) {
+  return {{Vec3(x0, y0, 0), Vec3(x1, y0, 0), Vec3(x1, y1, 0), Vec3(x0, y1, 0)}, {{0, 1, 2}, {0, 2, 3}}};
+}
+
+TriMesh merged(const TriMesh& a, const TriMesh& b) {
+  TriMesh m = a;
+  const Index offset = static_cast<Index>(a.points.size());
+  m.points.insert(m.points.end(), b.points.begin(), b.points.end());
+  for (const auto& [i, j, k] : b.triangles) m.triangles.push_back({i + offset, j + offset, k + offset});
+  return m;
+}
+
+TEST(Hausdorff, SurfaceToItselfIsZero) {
+  const TriMesh sphere = icosphere(3);
+  const HausdorffResult h = hausdorff_distance(sphere, sphere, 1e-2);
+  EXPECT_LT(h.distance, 1e-12);
+  EXPECT_GT(h.samples, 2 * sphere.triangles.size());
+}
+
+TEST(Hausdorff, TranslatedConvexSurfaceIsTheTranslationLength) {
+  // For a convex polytope P, d_H(dP, dP + t) = |t| exactly: the vertex extreme in
+  // direction t is |t| away from P, and no point is farther. Vertices are samples.
+  const TriMesh sphere = icosphere(3);
+  TriMesh moved = sphere;
+  const double d = 0.05;
+  const Vec3 t = d * sphere.points[5];  // direction of a vertex
+  for (Vec3& p : moved.points) p += t;
+  const HausdorffResult h = hausdorff_distance(sphere, moved, 1e-2);
+  EXPECT_NEAR(h.distance, d, 1e-12);
+  EXPECT_NEAR(h.relative, d / sphere.bounding_box().diagonal(), 1e-12);
+  // Any direction: within the sampling tolerance of |t| (and never above it).
+  TriMesh skew = sphere;
+  const Vec3 s = Vec3(0.3, -0.2, 0.7).normalized() * d;
+  for (Vec3& p : skew.points) p += s;
+  const HausdorffResult k = hausdorff_distance(sphere, skew, 1e-2);
+  EXPECT_LE(k.distance, d + 1e-12);
+  EXPECT_GE(k.distance, d - k.tolerance);
+}
+
+TEST(Hausdorff, IsTwoSided) {
+  // Every point of the unit square is on the 2x1 rectangle, but the rectangle's far
+  // end is 1 away from the square.
+  const TriMesh square = rectangle(0, 1, 0, 1), wide = rectangle(0, 2, 0, 1);
+  EXPECT_NEAR(hausdorff_distance(square, wide, 1e-2).distance, 1.0, 1e-12);
+  EXPECT_NEAR(hausdorff_distance(wide, square, 1e-2).distance, 1.0, 1e-12);
+}
+
+TEST(Hausdorff, FindsAMaximumInsideATriangleWithinTheTolerance) {
+  // Two unit squares 2 apart; a strip over both has its farthest points (x = 2,
+  // distance 1) inside its triangles, not at a vertex.
+  const TriMesh pair = merged(rectangle(0, 1, 0, 1), rectangle(3, 4, 0, 1));
+  const TriMesh strip = rectangle(0, 4, 0, 1);
+  for (double ratio : {0.05, 0.01}) {
+    const HausdorffResult h = hausdorff_distance(pair, strip, ratio);
+    EXPECT_LE(h.distance, 1.0 + 1e-12) << ratio;
+    EXPECT_GE(h.distance, 1.0 - h.tolerance) << ratio;
+    EXPECT_NEAR(h.tolerance, std::sqrt(5.0) / 2 * ratio * std::sqrt(17.0), 1e-12);
+  }
+}
+
+TEST(Hausdorff, RejectsUnusableInput) {
+  const TriMesh square = rectangle(0, 1, 0, 1);
+  EXPECT_THROW(hausdorff_distance(square, TriMesh{}), InputError);
+  EXPECT_THROW(hausdorff_distance(TriMesh{}, square), InputError);
+  EXPECT_THROW(hausdorff_distance(square, square, 0.0), InputError);
+  EXPECT_THROW(hausdorff_distance(square, square, 1e-7), InputError);  // ~1e14 samples
+}
+
+}  // namespace
+}  // namespace structmesh
