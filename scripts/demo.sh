@@ -10,8 +10,8 @@ out="$root/out"
 mkdir -p "$out"
 
 echo "== built-in regions of §3.4: the Key (1 hole) and the Pipe (9 holes)"
-"$sm" generate key --segments 4000 -o "$out/key.geojson" -o "$out/key.poly" -o "$out/key.svg" --json "$out/key-generate.json"
-"$sm" generate pipe --segments 8000 -o "$out/pipe.geojson" -o "$out/pipe.poly" -o "$out/pipe.svg" --json "$out/pipe-generate.json"
+"$sm" generate key --segments 4000 -o "$out/key.geojson" -o "$out/key.poly" -o "$out/key.svg" -o "$out/key.png" --json "$out/key-generate.json"
+"$sm" generate pipe --segments 8000 -o "$out/pipe.geojson" -o "$out/pipe.poly" -o "$out/pipe.svg" -o "$out/pipe.png" --json "$out/pipe-generate.json"
 
 echo "== validate them as regions"
 "$sm" check "$out/key.geojson" --json "$out/key-check.json"
@@ -21,7 +21,7 @@ data=${STRUCTMESH_DATA:-$root/../shared/data}
 if [[ -d "$data" ]]; then
   echo "== check real data from $data"
   "$sm" check "$data/regions/matagorda_bay.geojson" --json "$out/matagorda-check.json"
-  "$sm" convert "$data/regions/matagorda_bay.geojson" -o "$out/matagorda_bay.svg"
+  "$sm" convert "$data/regions/matagorda_bay.geojson" -o "$out/matagorda_bay.png"
   "$sm" check "$data/surfaces/rocker-arm.obj" --json "$out/rocker-arm-check.json"
   # A model with defects: check reports them and exits 2, which the demo expects.
   if "$sm" check "$data/surfaces/tosca_centaur.off" --json "$out/centaur-check.json"; then

@@ -22,7 +22,9 @@ Action add_convert_command(CLI::App& command, const GlobalOptions& global) {
     nlohmann::json report{{"input", settings->input}, {"output", settings->output}};
     if (in == FileFormat::GeoJson || in == FileFormat::Poly) {
       const std::vector<Polygon2> region = read_region(settings->input);
-      if (out == FileFormat::Svg) {
+      if (out == FileFormat::Png) {
+        write_file_atomic(settings->output, region_png(region));
+      } else if (out == FileFormat::Svg) {
         write_file_atomic(settings->output, region_svg(region));
       } else {
         write_region(settings->output, region);

@@ -23,7 +23,7 @@ Action add_generate_command(CLI::App& command, const GlobalOptions& global) {
   command.add_option("--segments", settings->segments,
                      "Boundary segments over all rings (default 2000 for the key, 4000 for the pipe)")
       ->check(CLI::Range(std::size_t{16}, std::size_t{200'000'000}));
-  command.add_option("-o,--output", settings->outputs, "Output files: .geojson .poly .svg (repeatable)")
+  command.add_option("-o,--output", settings->outputs, "Output files: .geojson .poly .svg .png (repeatable)")
       ->required();
   return [&global, settings]() {
     const bool key = settings->shape == "key";
@@ -32,7 +32,10 @@ Action add_generate_command(CLI::App& command, const GlobalOptions& global) {
     const RegionReport check = check_region(region);
     if (!check.valid) throw Error("generated " + settings->shape + " region is invalid: " + check.problems.front().message);
     for (const std::string& output : settings->outputs) {
-      if (format_from_path(output) == FileFormat::Svg) {
+      const FileFormat format = format_from_path(output);
+      if (format == FileFormat::Png) {
+        write_file_atomic(output, region_png(region));
+      } else if (format == FileFormat::Svg) {
         SvgOptions svg;
         svg.title = settings->shape + ", " + std::to_string(check.vertices) + " boundary segments, " +
                     std::to_string(check.holes) + (check.holes == 1 ? " hole" : " holes");

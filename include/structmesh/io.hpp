@@ -20,7 +20,7 @@ namespace structmesh {
 
 enum class FileFormat {
   Unknown,
-  Obj,      // .obj  surface (v / f lines; polygons are fan-triangulated unless all quads)
+  Obj,      // .obj  surface (v / f lines; quads stay quads, larger polygons are fan-triangulated)
   Off,      // .off  surface
   Ply,      // .ply  surface, ASCII and binary (little and big endian)
   Stl,      // .stl  surface, ASCII and binary
@@ -31,6 +31,7 @@ enum class FileFormat {
   GeoJson,  // .geojson / .json regions: Polygon / MultiPolygon
   Poly,     // .poly Triangle's planar straight line graph with holes
   Svg,      // .svg pictures (written only)
+  Png,      // .png pictures (written only)
 };
 
 FileFormat format_from_path(const std::filesystem::path& path);

@@ -25,6 +25,7 @@ FileFormat format_from_path(const std::filesystem::path& path) {
   if (ext == ".geojson" || ext == ".json") return FileFormat::GeoJson;
   if (ext == ".poly") return FileFormat::Poly;
   if (ext == ".svg") return FileFormat::Svg;
+  if (ext == ".png") return FileFormat::Png;
   return FileFormat::Unknown;
 }
 
@@ -41,6 +42,7 @@ std::string format_name(FileFormat format) {
     case FileFormat::GeoJson: return "GeoJSON";
     case FileFormat::Poly: return "Triangle .poly";
     case FileFormat::Svg: return "SVG";
+    case FileFormat::Png: return "PNG";
     case FileFormat::Unknown: break;
   }
   return "unknown";

@@ -50,14 +50,12 @@ class GeoJsonReader {
     }
     if (polygons_.empty()) fail("", "holds no polygons");
 
-    // Lon/lat unless a marker says otherwise or some position is out of range.
-    bool in_lon_lat_range = root_flag.value_or(Polygon2::Coordinates::LonLat) == Polygon2::Coordinates::LonLat;
-    const bool legacy_planar_crs = has_planar_crs(root);
-    for (std::size_t p = 0; p < polygons_.size() && in_lon_lat_range && !root_flag; ++p)
+    // Without markers: lon/lat when every position is in range and no projected "crs" is named.
+    bool looks_lon_lat = !has_planar_crs(root);
+    for (std::size_t p = 0; p < polygons_.size() && looks_lon_lat; ++p)
       for (const Vec2& q : polygons_[p].points)
-        if (std::abs(q.x()) > 180 || std::abs(q.y()) > 90) in_lon_lat_range = false;
-    const auto automatic = in_lon_lat_range && !legacy_planar_crs ? Polygon2::Coordinates::LonLat
-                                                                  : Polygon2::Coordinates::Planar;
+        if (std::abs(q.x()) > 180 || std::abs(q.y()) > 90) looks_lon_lat = false;
+    const auto automatic = looks_lon_lat ? Polygon2::Coordinates::LonLat : Polygon2::Coordinates::Planar;
     for (std::size_t p = 0; p < polygons_.size(); ++p) {
       polygons_[p].coordinates = flags_[p].value_or(root_flag.value_or(automatic));
       detail::normalize_orientation(polygons_[p]);
@@ -104,7 +102,8 @@ class GeoJsonReader {
 
   void read_feature(const json& feature, const std::string& where) {
     if (!feature.is_object()) fail(where, "is not a JSON object");
-    if (type_of(feature, where) != "Feature") fail(where, "expected a Feature, found '" + type_of(feature, where) + "'");
+    if (type_of(feature, where) != "Feature")
+      fail(where, "expected a Feature, found '" + type_of(feature, where) + "'");
     const json* geometry = member(feature, "geometry");
     if (geometry == nullptr || geometry->is_null()) fail(where, "has no geometry");
     read_geometry(*geometry, where, 0, coordinates_flag(feature, where));
@@ -176,6 +175,11 @@ class GeoJsonReader {
 };
 
 void append_number(std::string& out, double value) {
+  // JSON has no infinity (an area can overflow even when every coordinate is finite).
+  if (!std::isfinite(value)) {
+    out += "null";
+    return;
+  }
   // Shortest representation that reads back to the same double.
   char buffer[32];
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
@@ -218,11 +222,15 @@ std::vector<Polygon2> read_geojson(std::string_view data, const std::string& sou
     std::string detail = e.what();
     const std::size_t colon = detail.find(": ", detail.find("parse error"));
     if (colon != std::string::npos) detail = detail.substr(colon + 2);
-    throw InputError(located_message(source_name, static_cast<std::uint64_t>(line),
-                                     "invalid JSON at byte " + std::to_string(byte) + " (column " +
-                                         std::to_string(column) + "): " + detail));
+    throw InputError(located_message(
+        source_name, static_cast<std::uint64_t>(line),
+        "invalid JSON at byte " + std::to_string(byte) + " (column " + std::to_string(column) + "): " + detail));
   } catch (const json::exception& e) {
-    throw InputError(located_message(source_name, 0, std::string("invalid JSON: ") + e.what()));
+    // Such as "number overflow parsing '1e999'", without nlohmann's "[json.exception...] " tag.
+    const std::string what = e.what();
+    const std::size_t tag_end = what.find("] ");
+    throw InputError(located_message(
+        source_name, 0, "invalid JSON: " + (tag_end == std::string::npos ? what : what.substr(tag_end + 2))));
   }
   try {
     return GeoJsonReader(source_name).read(root);

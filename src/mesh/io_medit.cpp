@@ -134,6 +134,10 @@ MeshBundle read_medit(std::string_view data, const std::string& source_name) {
   TextScanner in(data, source_name);
   in.set_comment_char('#');
   if (in.at_end()) in.fail("empty file");
+  // libMeshb's binary files start with the integer 1, in either byte order.
+  const std::string_view magic = data.substr(0, 4);
+  if (magic == std::string_view("\1\0\0\0", 4) || magic == std::string_view("\0\0\0\1", 4))
+    in.fail("binary MEDIT (.meshb) is not supported; save as ASCII .mesh");
 
   MeshBundle mesh;
   mesh.source_name = source_name;
@@ -146,7 +150,8 @@ MeshBundle read_medit(std::string_view data, const std::string& source_name) {
     const std::uint32_t keyword_line = in.line();
     const std::string_view token = in.token();
     if (!is_keyword(token)) {
-      if (previous_section.empty()) in.fail("not a MEDIT file: expected 'MeshVersionFormatted', found '" + TextScanner::clip(token) + "'");
+      if (previous_section.empty())
+        in.fail("not a MEDIT file: expected 'MeshVersionFormatted', found '" + TextScanner::clip(token) + "'");
       in.fail("expected a keyword after section '" + previous_section + "', found '" + TextScanner::clip(token) +
               "' (does the section's count match its rows?)");
     }

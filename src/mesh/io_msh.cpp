@@ -43,40 +43,39 @@ struct ElementType {
 
 /// The element types structmesh reads or skips; false for every other type.
 bool known_element_type(std::int64_t type, ElementType& info) {
-  switch (type) {
-    case 15: info = {1, Kind::Skip, "point"}; return true;
-    case 1: info = {2, Kind::Skip, "line"}; return true;
-    case 2: info = {3, Kind::Triangle, "triangle"}; return true;
-    case 3: info = {4, Kind::Quad, "quadrilateral"}; return true;
-    case 4: info = {4, Kind::Tet, "tetrahedron"}; return true;
-    case 5: info = {8, Kind::Hex, "hexahedron"}; return true;
-    default: return false;
-  }
+  static constexpr std::pair<int, ElementType> kKnown[] = {
+      {15, {1, Kind::Skip, "point"}},        {1, {2, Kind::Skip, "line"}},       {2, {3, Kind::Triangle, "triangle"}},
+      {3, {4, Kind::Quad, "quadrilateral"}}, {4, {4, Kind::Tet, "tetrahedron"}}, {5, {8, Kind::Hex, "hexahedron"}}};
+  for (const auto& [id, known] : kKnown)
+    if (id == type) {
+      info = known;
+      return true;
+    }
+  return false;
 }
 
-/// A readable name for the Gmsh element types users are likely to meet.
+/// Names the Gmsh element types users are likely to meet.
 std::string unsupported_type_message(std::int64_t type) {
-  const char* name = nullptr;
-  switch (type) {
-    case 6: name = "6-node prism"; break;
-    case 7: name = "5-node pyramid"; break;
-    case 8: name = "3-node second-order line"; break;
-    case 9: name = "6-node second-order triangle"; break;
-    case 10: name = "9-node second-order quadrilateral"; break;
-    case 11: name = "10-node second-order tetrahedron"; break;
-    case 12: name = "27-node second-order hexahedron"; break;
-    case 13: name = "18-node second-order prism"; break;
-    case 14: name = "14-node second-order pyramid"; break;
-    case 16: name = "8-node second-order quadrilateral"; break;
-    case 17: name = "20-node second-order hexahedron"; break;
-    case 18: name = "15-node second-order prism"; break;
-    case 19: name = "13-node second-order pyramid"; break;
-    default: break;
-  }
+  static constexpr std::pair<int, const char*> kNames[] = {{6, "6-node prism"},
+                                                           {7, "5-node pyramid"},
+                                                           {8, "3-node second-order line"},
+                                                           {9, "6-node second-order triangle"},
+                                                           {10, "9-node second-order quadrilateral"},
+                                                           {11, "10-node second-order tetrahedron"},
+                                                           {12, "27-node second-order hexahedron"},
+                                                           {13, "18-node second-order prism"},
+                                                           {14, "14-node second-order pyramid"},
+                                                           {16, "8-node second-order quadrilateral"},
+                                                           {17, "20-node second-order hexahedron"},
+                                                           {18, "15-node second-order prism"},
+                                                           {19, "13-node second-order pyramid"}};
   std::string message = "element type " + std::to_string(type);
-  if (name != nullptr) message += std::string(" (") + name + ")";
-  message += " is not supported; structmesh reads linear triangles, quadrilaterals, tetrahedra and hexahedra "
-             "(types 2, 3, 4, 5)";
+  for (const auto& [id, name] : kNames)
+    if (id == type) message += std::string(" (") + name + ")";
+  message +=
+      " is not supported; structmesh reads linear triangles, quadrilaterals, tetrahedra and hexahedra "
+      "(types 2, 3, 4, 5)";
+  // Types 8 and above (except the point, 15) are higher-order elements.
   if (type >= 8 && type != 15) message += "; for higher-order meshes export with Mesh.ElementOrder = 1";
   return message;
 }
@@ -391,10 +390,17 @@ class MshReader {
       case Kind::Triangle:
         push(mesh_.triangles, mesh_.triangle_labels, mesh_.lines.triangle_lines, indices, label, line);
         break;
-      case Kind::Quad: push(mesh_.quads, mesh_.quad_labels, mesh_.lines.quad_lines, indices, label, line); break;
-      case Kind::Tet: push(mesh_.tets, mesh_.tet_labels, mesh_.lines.tet_lines, indices, label, line); break;
-      case Kind::Hex: push(mesh_.hexes, mesh_.hex_labels, mesh_.lines.hex_lines, indices, label, line); break;
-      case Kind::Skip: break;
+      case Kind::Quad:
+        push(mesh_.quads, mesh_.quad_labels, mesh_.lines.quad_lines, indices, label, line);
+        break;
+      case Kind::Tet:
+        push(mesh_.tets, mesh_.tet_labels, mesh_.lines.tet_lines, indices, label, line);
+        break;
+      case Kind::Hex:
+        push(mesh_.hexes, mesh_.hex_labels, mesh_.lines.hex_lines, indices, label, line);
+        break;
+      case Kind::Skip:
+        break;
     }
   }
   template <std::size_t N>
@@ -420,8 +426,8 @@ class MshReader {
       const std::int64_t type_id = in_.integer("element type");
       ElementType type;
       if (!known_element_type(type_id, type)) fail(unsupported_type_message(type_id));
-      const std::size_t n = checked_count(in_.integer("number of elements in block"), 2 * (1 + type.nodes),
-                                          in_.rest().size(), "element");
+      const std::size_t n =
+          checked_count(in_.integer("number of elements in block"), 2 * (1 + type.nodes), in_.rest().size(), "element");
       total += n;
       std::uint64_t nodes[8];
       for (std::size_t i = 0; i < n; ++i) {
@@ -437,8 +443,7 @@ class MshReader {
       }
     }
     if (total != static_cast<std::uint64_t>(declared))
-      fail("$Elements declares " + std::to_string(declared) + " elements but its blocks hold " +
-           std::to_string(total));
+      fail("$Elements declares " + std::to_string(declared) + " elements but its blocks hold " + std::to_string(total));
     expect_end("Elements");
   }
 
@@ -689,10 +694,18 @@ std::string write_msh(const MeshBundle& mesh) {
   std::uint64_t next_tag = 1;
   for (const Block& b : blocks) {
     switch (b.type) {
-      case 2: write_block(out, b, mesh.triangles, next_tag); break;
-      case 3: write_block(out, b, mesh.quads, next_tag); break;
-      case 4: write_block(out, b, mesh.tets, next_tag); break;
-      default: write_block(out, b, mesh.hexes, next_tag); break;
+      case 2:
+        write_block(out, b, mesh.triangles, next_tag);
+        break;
+      case 3:
+        write_block(out, b, mesh.quads, next_tag);
+        break;
+      case 4:
+        write_block(out, b, mesh.tets, next_tag);
+        break;
+      default:
+        write_block(out, b, mesh.hexes, next_tag);
+        break;
     }
   }
   out += "$EndElements\n";

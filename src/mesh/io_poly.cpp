@@ -89,10 +89,12 @@ Vec2 point_in_hole(std::span<const Vec2> hole, const std::vector<std::span<const
   // Candidate lines: the midpoints of the largest gaps (a few, in case one is blocked by islands).
   std::vector<std::pair<double, double>> gaps;  // (-gap, y)
   for (std::size_t i = 0; i + 1 < heights.size(); ++i)
-    gaps.emplace_back(-(heights[i + 1] - heights[i]), 0.5 * (heights[i] + heights[i + 1]));
+    gaps.emplace_back(-(heights[i + 1] - heights[i]), 0.5 * heights[i] + 0.5 * heights[i + 1]);
   const std::size_t tries = std::min<std::size_t>(gaps.size(), 8);
   std::partial_sort(gaps.begin(), gaps.begin() + static_cast<std::ptrdiff_t>(tries), gaps.end());
 
+  // Near the top of the double range the arithmetic can overflow; any finite point then.
+  if (!fallback.allFinite()) fallback = hole[0];
   Vec2 best = fallback;
   double best_width = -1;
   std::vector<std::pair<double, bool>> crossings;  // (x, crosses the hole itself)
@@ -116,11 +118,11 @@ Vec2 point_in_hole(std::span<const Vec2> hole, const std::vector<std::span<const
       const double width = crossings[i + 1].first - crossings[i].first;
       if (in_hole && !in_island && width > best_width) {
         best_width = width;
-        best = Vec2(0.5 * (crossings[i].first + crossings[i + 1].first), y);
+        best = Vec2(0.5 * crossings[i].first + 0.5 * crossings[i + 1].first, y);
       }
     }
   }
-  return best;
+  return best.allFinite() ? best : fallback;
 }
 
 }  // namespace
@@ -188,7 +190,8 @@ std::vector<Polygon2> read_poly(std::string_view data, const std::string& source
                 range);
       end = static_cast<std::uint32_t>(v - base);
     }
-    if (ends[0] == ends[1]) in.fail("segment " + std::to_string(s) + " joins vertex " + std::to_string(ends[0] + base) + " to itself");
+    if (ends[0] == ends[1])
+      in.fail("segment " + std::to_string(s) + " joins vertex " + std::to_string(ends[0] + base) + " to itself");
     if (segment_markers == 1) int_field(in, "segment boundary marker");
     segments.push_back({ends[0], ends[1], line});
     in.skip_line();
@@ -216,9 +219,9 @@ std::vector<Polygon2> read_poly(std::string_view data, const std::string& source
     for (const std::uint32_t v : {segments[s].a, segments[s].b}) {
       auto& slots = incident[v];
       if (slots[1] != kNone)
-        throw InputError(located_message(source_name, segments[s].line,
-                                         "vertex " + std::to_string(v + base) +
-                                             " ends more than two segments; rings must be simple closed loops"));
+        throw InputError(located_message(
+            source_name, segments[s].line,
+            "vertex " + std::to_string(v + base) + " ends more than two segments; rings must be simple closed loops"));
       slots[slots[0] == kNone ? 0 : 1] = s;
     }
   }
@@ -252,9 +255,9 @@ std::vector<Polygon2> read_poly(std::string_view data, const std::string& source
       v = w;
     }
     if (!detail::has_three_distinct_points(ring))
-      throw InputError(located_message(source_name, segments[incident[start][0]].line,
-                                       "the loop through vertex " + std::to_string(start + base) +
-                                           " has fewer than 3 distinct points"));
+      throw InputError(located_message(
+          source_name, segments[incident[start][0]].line,
+          "the loop through vertex " + std::to_string(start + base) + " has fewer than 3 distinct points"));
     loops.add_ring(ring);
   }
 

@@ -35,9 +35,8 @@ inline std::int32_t label_at(const std::vector<std::int32_t>& labels, std::size_
 }
 
 template <std::size_t N>
-void check_writable_elements(const std::vector<std::array<Index, N>>& elements,
-                             const std::vector<std::int32_t>& labels, std::size_t point_count, const char* kind,
-                             const char* format) {
+void check_writable_elements(const std::vector<std::array<Index, N>>& elements, const std::vector<std::int32_t>& labels,
+                             std::size_t point_count, const char* kind, const char* format) {
   if (!labels.empty() && labels.size() != elements.size())
     throw Error(std::string("cannot write ") + format + ": " + std::to_string(labels.size()) + " " + kind +
                 " labels for " + std::to_string(elements.size()) + " elements");

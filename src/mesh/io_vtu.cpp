@@ -29,6 +29,8 @@
 #include <string>
 #include <string_view>
 #include <system_error>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace structmesh {
@@ -176,10 +178,9 @@ enum class Scalar { Int8, UInt8, Int16, UInt16, Int32, UInt32, Int64, UInt64, Fl
 
 std::optional<Scalar> parse_scalar(std::string_view name) {
   static constexpr std::pair<std::string_view, Scalar> kTypes[] = {
-      {"Int8", Scalar::Int8},     {"UInt8", Scalar::UInt8},     {"Int16", Scalar::Int16},
-      {"UInt16", Scalar::UInt16}, {"Int32", Scalar::Int32},     {"UInt32", Scalar::UInt32},
-      {"Int64", Scalar::Int64},   {"UInt64", Scalar::UInt64},   {"Float32", Scalar::Float32},
-      {"Float64", Scalar::Float64}};
+      {"Int8", Scalar::Int8},       {"UInt8", Scalar::UInt8},    {"Int16", Scalar::Int16}, {"UInt16", Scalar::UInt16},
+      {"Int32", Scalar::Int32},     {"UInt32", Scalar::UInt32},  {"Int64", Scalar::Int64}, {"UInt64", Scalar::UInt64},
+      {"Float32", Scalar::Float32}, {"Float64", Scalar::Float64}};
   for (const auto& [n, s] : kTypes)
     if (n == name) return s;
   return std::nullopt;
@@ -188,15 +189,19 @@ std::optional<Scalar> parse_scalar(std::string_view name) {
 std::size_t scalar_size(Scalar s) {
   switch (s) {
     case Scalar::Int8:
-    case Scalar::UInt8: return 1;
+    case Scalar::UInt8:
+      return 1;
     case Scalar::Int16:
-    case Scalar::UInt16: return 2;
+    case Scalar::UInt16:
+      return 2;
     case Scalar::Int32:
     case Scalar::UInt32:
-    case Scalar::Float32: return 4;
+    case Scalar::Float32:
+      return 4;
     case Scalar::Int64:
     case Scalar::UInt64:
-    case Scalar::Float64: return 8;
+    case Scalar::Float64:
+      return 8;
   }
   return 8;
 }
@@ -208,7 +213,7 @@ struct ArrayInfo {
   Scalar type = Scalar::Float64;
   std::string_view format;  // ascii | binary | appended
   std::uint64_t components = 1;
-  std::uint64_t offset = 0;  // appended
+  std::uint64_t offset = 0;                        // appended
   std::size_t content_begin = 0, content_end = 0;  // inline data
 };
 
@@ -284,7 +289,9 @@ class Base64Reader {
 template <typename Out>
 class ArrayDecoder {
  public:
-  ArrayDecoder(const Source& source, const FileInfo& file) : source_(source), file_(file) {}
+  /// `budget`: binary bytes still allowed to be decoded, shared by all arrays of the file.
+  ArrayDecoder(const Source& source, const FileInfo& file, std::uint64_t& budget)
+      : source_(source), file_(file), budget_(budget) {}
 
   std::vector<Out> decode(const ArrayInfo& array, const char* what) {
     what_ = what;
@@ -342,13 +349,27 @@ class ArrayDecoder {
     for (std::size_t i = 0; i < n; ++i) {
       const unsigned char* p = bytes + i * width;
       switch (array_->type) {
-        case Scalar::Int8: values[i] = static_cast<Out>(static_cast<std::int8_t>(p[0])); break;
-        case Scalar::UInt8: values[i] = static_cast<Out>(p[0]); break;
-        case Scalar::Int16: values[i] = static_cast<Out>(load<std::int16_t>(p)); break;
-        case Scalar::UInt16: values[i] = static_cast<Out>(load<std::uint16_t>(p)); break;
-        case Scalar::Int32: values[i] = static_cast<Out>(load<std::int32_t>(p)); break;
-        case Scalar::UInt32: values[i] = static_cast<Out>(load<std::uint32_t>(p)); break;
-        case Scalar::Int64: values[i] = static_cast<Out>(load<std::int64_t>(p)); break;
+        case Scalar::Int8:
+          values[i] = static_cast<Out>(static_cast<std::int8_t>(p[0]));
+          break;
+        case Scalar::UInt8:
+          values[i] = static_cast<Out>(p[0]);
+          break;
+        case Scalar::Int16:
+          values[i] = static_cast<Out>(load<std::int16_t>(p));
+          break;
+        case Scalar::UInt16:
+          values[i] = static_cast<Out>(load<std::uint16_t>(p));
+          break;
+        case Scalar::Int32:
+          values[i] = static_cast<Out>(load<std::int32_t>(p));
+          break;
+        case Scalar::UInt32:
+          values[i] = static_cast<Out>(load<std::uint32_t>(p));
+          break;
+        case Scalar::Int64:
+          values[i] = static_cast<Out>(load<std::int64_t>(p));
+          break;
         case Scalar::UInt64: {
           const std::uint64_t v = load<std::uint64_t>(p);
           if constexpr (std::is_integral_v<Out>) {
@@ -358,22 +379,32 @@ class ArrayDecoder {
           values[i] = static_cast<Out>(v);
           break;
         }
-        case Scalar::Float32: values[i] = static_cast<Out>(load<float>(p)); break;
-        case Scalar::Float64: values[i] = static_cast<Out>(load<double>(p)); break;
+        case Scalar::Float32:
+          values[i] = static_cast<Out>(load<float>(p));
+          break;
+        case Scalar::Float64:
+          values[i] = static_cast<Out>(load<double>(p));
+          break;
       }
     }
     return values;
   }
 
-  void check_block(std::uint64_t byte_count, std::size_t available) const {
+  void check_block(std::uint64_t byte_count, std::size_t available) {
     if (byte_count > available)
-      fail(std::string(what_) + ": data block of " + std::to_string(byte_count) + " bytes runs past the end (truncated?)");
+      fail(std::string(what_) + ": data block of " + std::to_string(byte_count) +
+           " bytes runs past the end (truncated?)");
+    // Arrays (of several pieces) could all point at one large appended block; without
+    // this cap a small file could demand gigabytes. Valid files never share blocks.
+    if (byte_count > budget_)
+      fail(std::string(what_) + ": data blocks add up to more than the file holds (do appended offsets overlap?)");
+    budget_ -= byte_count;
     if (byte_count % scalar_size(array_->type) != 0)
       fail(std::string(what_) + ": data block size " + std::to_string(byte_count) +
            " is not a multiple of the value size");
   }
 
-  std::vector<Out> decode_raw_block(std::string_view block) const {
+  std::vector<Out> decode_raw_block(std::string_view block) {
     const std::size_t h = file_.header_size;
     if (block.size() < h) fail(std::string(what_) + ": appended data block header runs past the end (truncated?)");
     const auto* bytes = reinterpret_cast<const unsigned char*>(block.data());
@@ -382,7 +413,7 @@ class ArrayDecoder {
     return from_bytes(bytes + h, static_cast<std::size_t>(byte_count));
   }
 
-  std::vector<Out> decode_base64(std::size_t begin, std::size_t end) const {
+  std::vector<Out> decode_base64(std::size_t begin, std::size_t end) {
     Base64Reader reader(source_.data().substr(begin, end - begin), 0);
     std::vector<unsigned char> bytes;
     const std::size_t h = file_.header_size;
@@ -399,7 +430,8 @@ class ArrayDecoder {
 
   std::vector<Out> decode_ascii() const {
     std::vector<Out> values;
-    const std::string_view text = source_.data().substr(array_->content_begin, array_->content_end - array_->content_begin);
+    const std::string_view text =
+        source_.data().substr(array_->content_begin, array_->content_end - array_->content_begin);
     std::size_t pos = 0;
     while (true) {
       while (pos < text.size() && is_space(text[pos])) ++pos;
@@ -421,6 +453,7 @@ class ArrayDecoder {
 
   const Source& source_;
   const FileInfo& file_;
+  std::uint64_t& budget_;
   const ArrayInfo* array_ = nullptr;
   const char* what_ = "";
 };
@@ -465,7 +498,8 @@ FileInfo scan_structure(const Source& source) {
   XmlTag tag;
   FileInfo file;
   if (!xml.next(tag)) source.fail(0, source.data().empty() ? "empty file" : "no XML tags: not a VTK XML file");
-  if (tag.name != "VTKFile" || tag.kind != XmlTag::Kind::Open) source.fail(tag.begin, "not a VTK XML file: expected <VTKFile>");
+  if (tag.name != "VTKFile" || tag.kind != XmlTag::Kind::Open)
+    source.fail(tag.begin, "not a VTK XML file: expected <VTKFile>");
   const std::string_view type = tag.attribute("type").value_or("");
   if (type == "PUnstructuredGrid")
     source.fail(tag.begin, "this is a parallel .pvtu index; read its .vtu pieces instead");
@@ -482,8 +516,10 @@ FileInfo scan_structure(const Source& source) {
   else if (header != "UInt32")
     source.fail(tag.begin, "unsupported header_type '" + clip(header) + "'");
   if (const auto compressor = tag.attribute("compressor"); compressor && !compressor->empty())
-    source.fail(tag.begin, "compressed VTU not supported (" + clip(*compressor) +
-                               "); save it uncompressed (ParaView: Compressor Type None; Python: writer.SetCompressorTypeToNone())");
+    source.fail(
+        tag.begin,
+        "compressed VTU not supported (" + clip(*compressor) +
+            "); save it uncompressed (ParaView: Compressor Type None; Python: writer.SetCompressorTypeToNone())");
 
   // Open elements below <VTKFile>; depth is bounded so hostile nesting costs nothing.
   std::vector<std::string_view> stack{"VTKFile"};
@@ -536,7 +572,8 @@ FileInfo scan_structure(const Source& source) {
         if (name == "label") slot = &piece.label;
       }
       if (slot != nullptr) {
-        if (slot->has_value()) source.fail(tag.begin, "repeated DataArray '" + clip(name) + "' in <" + std::string(parent) + ">");
+        if (slot->has_value())
+          source.fail(tag.begin, "repeated DataArray '" + clip(name) + "' in <" + std::string(parent) + ">");
         *slot = read_array_info(source, tag);
       }
     }
@@ -562,44 +599,41 @@ struct CellKind {
 };
 
 std::optional<CellKind> cell_kind(std::int64_t type) {
-  switch (type) {
-    case 5: return CellKind{3, Target::Triangle, "triangle", {0, 1, 2}};
-    case 9: return CellKind{4, Target::Quad, "quad", {0, 1, 2, 3}};
-    // Pixels and voxels list their nodes in x-then-y(-then-z) order, not as rings.
-    case 8: return CellKind{4, Target::Quad, "pixel", {0, 1, 3, 2}};
-    case 10: return CellKind{4, Target::Tet, "tetrahedron", {0, 1, 2, 3}};
-    case 12: return CellKind{8, Target::Hex, "hexahedron", {0, 1, 2, 3, 4, 5, 6, 7}};
-    case 11: return CellKind{8, Target::Hex, "voxel", {0, 1, 3, 2, 4, 5, 7, 6}};
-    default: return std::nullopt;
-  }
+  // Pixels and voxels list their nodes in x-then-y(-then-z) order, not as rings.
+  static constexpr std::pair<int, CellKind> kKinds[] = {{5, {3, Target::Triangle, "triangle", {0, 1, 2}}},
+                                                        {9, {4, Target::Quad, "quad", {0, 1, 2, 3}}},
+                                                        {8, {4, Target::Quad, "pixel", {0, 1, 3, 2}}},
+                                                        {10, {4, Target::Tet, "tetrahedron", {0, 1, 2, 3}}},
+                                                        {12, {8, Target::Hex, "hexahedron", {0, 1, 2, 3, 4, 5, 6, 7}}},
+                                                        {11, {8, Target::Hex, "voxel", {0, 1, 3, 2, 4, 5, 7, 6}}}};
+  for (const auto& [id, kind] : kKinds)
+    if (id == type) return kind;
+  return std::nullopt;
 }
 
 std::string unsupported_cell_message(std::int64_t type) {
-  const char* name = nullptr;
-  switch (type) {
-    case 1: name = "vertex"; break;
-    case 2: name = "poly-vertex"; break;
-    case 3: name = "line"; break;
-    case 4: name = "poly-line"; break;
-    case 6: name = "triangle strip"; break;
-    case 7: name = "polygon"; break;
-    case 13: name = "wedge"; break;
-    case 14: name = "pyramid"; break;
-    case 21: name = "quadratic edge"; break;
-    case 22: name = "quadratic triangle"; break;
-    case 23: name = "quadratic quad"; break;
-    case 24: name = "quadratic tetrahedron"; break;
-    case 25: name = "quadratic hexahedron"; break;
-    case 42: name = "polyhedron"; break;
-    default: break;
-  }
+  static constexpr std::pair<int, const char*> kNames[] = {{1, "vertex"},
+                                                           {2, "poly-vertex"},
+                                                           {3, "line"},
+                                                           {4, "poly-line"},
+                                                           {6, "triangle strip"},
+                                                           {7, "polygon"},
+                                                           {13, "wedge"},
+                                                           {14, "pyramid"},
+                                                           {21, "quadratic edge"},
+                                                           {22, "quadratic triangle"},
+                                                           {23, "quadratic quad"},
+                                                           {24, "quadratic tetrahedron"},
+                                                           {25, "quadratic hexahedron"},
+                                                           {42, "polyhedron"}};
   std::string message = "VTK cell type " + std::to_string(type);
-  if (name != nullptr) message += std::string(" (") + name + ")";
+  for (const auto& [id, name] : kNames)
+    if (id == type) message += std::string(" (") + name + ")";
   return message + " is not supported; structmesh reads triangles (5), quads (9), tetrahedra (10), hexahedra (12)";
 }
 
-void read_piece(const Source& source, const FileInfo& file, const PieceInfo& piece, MeshBundle& mesh,
-                bool& any_labels) {
+void read_piece(const Source& source, const FileInfo& file, const PieceInfo& piece, std::uint64_t& budget,
+                MeshBundle& mesh, bool& any_labels) {
   const auto fail = [&](const std::string& message) { source.fail(piece.tag_pos, message); };
   if (!piece.points && piece.point_count > 0) fail("<Piece> has no <Points> array");
   if (piece.cell_count > 0 && (!piece.connectivity || !piece.offsets || !piece.types))
@@ -608,9 +642,8 @@ void read_piece(const Source& source, const FileInfo& file, const PieceInfo& pie
   const auto point_base = static_cast<Index>(mesh.points.size());
 
   if (piece.points) {
-    if (piece.points->components != 3)
-      source.fail(piece.points->tag_pos, "Points must have NumberOfComponents=\"3\"");
-    const std::vector<double> xyz = ArrayDecoder<double>(source, file).decode(*piece.points, "Points");
+    if (piece.points->components != 3) source.fail(piece.points->tag_pos, "Points must have NumberOfComponents=\"3\"");
+    const std::vector<double> xyz = ArrayDecoder<double>(source, file, budget).decode(*piece.points, "Points");
     if (xyz.size() != 3 * piece.point_count)
       source.fail(piece.points->tag_pos, "Points holds " + std::to_string(xyz.size()) + " values, expected 3 x " +
                                              std::to_string(piece.point_count));
@@ -623,7 +656,7 @@ void read_piece(const Source& source, const FileInfo& file, const PieceInfo& pie
   }
   if (piece.cell_count == 0) return;
 
-  ArrayDecoder<std::int64_t> ints(source, file);
+  ArrayDecoder<std::int64_t> ints(source, file, budget);
   const std::vector<std::int64_t> types = ints.decode(*piece.types, "types");
   if (types.size() != piece.cell_count)
     source.fail(piece.types->tag_pos, "types holds " + std::to_string(types.size()) + " values for " +
@@ -646,18 +679,20 @@ void read_piece(const Source& source, const FileInfo& file, const PieceInfo& pie
     if (label_info->components != 1) source.fail(label_info->tag_pos, std::string(what) + " must have one component");
     labels = ints.decode(*label_info, what);
     if (labels.size() != piece.cell_count)
-      source.fail(label_info->tag_pos, std::string(what) + " holds " + std::to_string(labels.size()) +
-                                           " values for " + std::to_string(piece.cell_count) + " cells");
+      source.fail(label_info->tag_pos, std::string(what) + " holds " + std::to_string(labels.size()) + " values for " +
+                                           std::to_string(piece.cell_count) + " cells");
     for (const std::int64_t v : labels)
       if (v < std::numeric_limits<std::int32_t>::min() || v > std::numeric_limits<std::int32_t>::max())
-        source.fail(label_info->tag_pos, std::string(what) + " value " + std::to_string(v) + " does not fit in 32 bits");
+        source.fail(label_info->tag_pos,
+                    std::string(what) + " value " + std::to_string(v) + " does not fit in 32 bits");
     any_labels = true;
   }
 
   std::int64_t start = 0;
   for (std::size_t c = 0; c < types.size(); ++c) {
     const std::optional<CellKind> kind = cell_kind(types[c]);
-    if (!kind) source.fail(piece.types->tag_pos, "cell " + std::to_string(c) + ": " + unsupported_cell_message(types[c]));
+    if (!kind)
+      source.fail(piece.types->tag_pos, "cell " + std::to_string(c) + ": " + unsupported_cell_message(types[c]));
     const std::int64_t end = offsets[c];
     if (end < start || end > static_cast<std::int64_t>(connectivity.size()) || end - start != kind->nodes)
       source.fail(piece.offsets->tag_pos, "cell " + std::to_string(c) + " (" + kind->name + "): offsets give " +
@@ -705,11 +740,20 @@ std::string xml_escape(std::string_view s) {
   std::string out;
   for (const char c : s) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -783,7 +827,8 @@ MeshBundle read_vtu(std::string_view data, const std::string& source_name) {
   MeshBundle mesh;
   mesh.source_name = source_name;
   bool any_labels = false;
-  for (const PieceInfo& piece : file.pieces) read_piece(source, file, piece, mesh, any_labels);
+  std::uint64_t budget = data.size();
+  for (const PieceInfo& piece : file.pieces) read_piece(source, file, piece, budget, mesh, any_labels);
   if (!any_labels) {
     mesh.triangle_labels.clear();
     mesh.quad_labels.clear();

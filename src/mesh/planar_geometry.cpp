@@ -151,8 +151,8 @@ SegmentContact segment_contact(const Vec2& a, const Vec2& b, const Vec2& c, cons
   if (o1 != 0 && o2 != 0 && o3 != 0 && o4 != 0) return SegmentContact::Cross;
   if (o1 == 0 && o2 == 0) {
     // Collinear: they meet when their extents overlap along the line (x unless vertical).
-    const bool meet = a.x() != b.x() ? intervals_meet(a.x(), b.x(), c.x(), d.x())
-                                     : intervals_meet(a.y(), b.y(), c.y(), d.y());
+    const bool meet =
+        a.x() != b.x() ? intervals_meet(a.x(), b.x(), c.x(), d.x()) : intervals_meet(a.y(), b.y(), c.y(), d.y());
     return meet ? SegmentContact::Touch : SegmentContact::None;
   }
   // Not collinear and an endpoint lies on the other segment's line with the
@@ -160,26 +160,33 @@ SegmentContact segment_contact(const Vec2& a, const Vec2& b, const Vec2& c, cons
   return SegmentContact::Touch;
 }
 
-RingLocator::RingLocator(std::vector<std::span<const Vec2>> rings) {
+RingLocator::RingLocator(std::vector<std::span<const Vec2>> rings) : rings_(std::move(rings)) {
+  // Segments are referred to, not copied: a locator over 10^7 segments stays small.
+  auto for_each_segment = [this](auto&& visit) {
+    for (std::uint32_t r = 0; r < rings_.size(); ++r) {
+      const auto ring = rings_[r];
+      for (std::uint32_t i = 0; i < ring.size(); ++i) {
+        const Vec2& a = ring[i];
+        const Vec2& b = ring[(i + 1) % ring.size()];
+        if (a.allFinite() && b.allFinite() && a.y() != b.y())
+          visit(r, i, std::min(a.y(), b.y()), std::max(a.y(), b.y()));
+      }
+    }
+  };
   double y1 = -std::numeric_limits<double>::infinity();
   y0_ = std::numeric_limits<double>::infinity();
   double vertical_extent = 0;
-  for (std::size_t r = 0; r < rings.size(); ++r) {
-    const auto ring = rings[r];
-    for (std::size_t i = 0; i < ring.size(); ++i) {
-      Vec2 a = ring[i], b = ring[(i + 1) % ring.size()];
-      if (!a.allFinite() || !b.allFinite() || a.y() == b.y()) continue;
-      if (a.y() > b.y()) std::swap(a, b);
-      segments_.push_back({a, b, static_cast<std::uint32_t>(r)});
-      y0_ = std::min(y0_, a.y());
-      y1 = std::max(y1, b.y());
-      vertical_extent += b.y() - a.y();
-    }
-  }
-  if (segments_.empty()) return;
+  std::size_t count = 0;
+  for_each_segment([&](std::uint32_t, std::uint32_t, double low, double high) {
+    y0_ = std::min(y0_, low);
+    y1 = std::max(y1, high);
+    vertical_extent += high - low;
+    ++count;
+  });
+  if (count == 0) return;
   // Band count: as many as segments, but few enough that segments spanning many
   // bands add at most ~4 entries per segment (sum of spans = extent * bands / height).
-  const double n = static_cast<double>(segments_.size());
+  const double n = static_cast<double>(count);
   const double height = y1 - y0_;
   double bands = n;
   if (std::isfinite(height) && height > 0 && std::isfinite(vertical_extent) && vertical_extent > 0)
@@ -194,14 +201,15 @@ RingLocator::RingLocator(std::vector<std::span<const Vec2>> rings) {
   }
 
   band_offsets_.assign(band_count_ + 1, 0);
-  for (const Segment& s : segments_)
-    for (std::size_t k = band_of(s.a.y()); k <= band_of(s.b.y()); ++k) ++band_offsets_[k + 1];
+  for_each_segment([&](std::uint32_t, std::uint32_t, double low, double high) {
+    for (std::size_t k = band_of(low); k <= band_of(high); ++k) ++band_offsets_[k + 1];
+  });
   for (std::size_t k = 0; k < band_count_; ++k) band_offsets_[k + 1] += band_offsets_[k];
   band_items_.resize(band_offsets_.back());
   std::vector<std::uint32_t> fill(band_offsets_.begin(), band_offsets_.end() - 1);
-  for (std::size_t i = 0; i < segments_.size(); ++i)
-    for (std::size_t k = band_of(segments_[i].a.y()); k <= band_of(segments_[i].b.y()); ++k)
-      band_items_[fill[k]++] = static_cast<std::uint32_t>(i);
+  for_each_segment([&](std::uint32_t r, std::uint32_t i, double low, double high) {
+    for (std::size_t k = band_of(low); k <= band_of(high); ++k) band_items_[fill[k]++] = {r, i};
+  });
 }
 
 std::size_t RingLocator::band_of(double y) const {
@@ -218,10 +226,14 @@ std::vector<std::uint32_t> RingLocator::containing(const Vec2& p, std::uint32_t 
   if (band_count_ == 0 || !p.allFinite()) return hits;
   const std::size_t k = band_of(p.y());
   for (std::uint32_t i = band_offsets_[k]; i < band_offsets_[k + 1]; ++i) {
-    const Segment& s = segments_[band_items_[i]];
-    if (s.ring == skip || !(s.a.y() <= p.y() && p.y() < s.b.y())) continue;
-    // The segment runs upwards; it crosses the ray to the left of p exactly when p is to its right.
-    if (orient2d(s.a, s.b, p) < 0) hits.push_back(s.ring);
+    const SegmentRef s = band_items_[i];
+    if (s.ring == skip) continue;
+    const auto ring = rings_[s.ring];
+    Vec2 a = ring[s.index], b = ring[(s.index + 1) % ring.size()];
+    if (a.y() > b.y()) std::swap(a, b);
+    if (!(a.y() <= p.y() && p.y() < b.y())) continue;
+    // Upwards from a to b, the segment crosses the ray left of p exactly when p is to its right.
+    if (orient2d(a, b, p) < 0) hits.push_back(s.ring);
   }
   std::sort(hits.begin(), hits.end());
   std::vector<std::uint32_t> inside;

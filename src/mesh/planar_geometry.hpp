@@ -49,12 +49,12 @@ class RingLocator {
   std::vector<std::uint32_t> containing(const Vec2& p, std::uint32_t skip) const;
 
  private:
-  struct Segment {
-    Vec2 a, b;  // a.y < b.y (horizontal segments never cross the ray and are not stored)
-    std::uint32_t ring;
+  struct SegmentRef {
+    std::uint32_t ring, index;  // from rings_[ring][index] to the next vertex of the ring
   };
-  std::vector<Segment> segments_;
-  std::vector<std::uint32_t> band_offsets_, band_items_;
+  std::vector<std::span<const Vec2>> rings_;
+  std::vector<std::uint32_t> band_offsets_;
+  std::vector<SegmentRef> band_items_;  // the non-horizontal segments meeting each band
   double y0_ = 0, band_height_ = 1;
   std::size_t band_count_ = 0;
 

@@ -172,12 +172,11 @@ class PairFinder {
       const double p = v_at(w0), q = v_at(w1);
       const double lo = std::max(std::min(p, q) - pad_, v_low), hi = std::min(std::max(p, q) + pad_, v_high);
       if (lo > hi) continue;
-      for (std::size_t r = cell(lo, v0, sv, nv); r <= cell(hi, v0, sv, nv); ++r)
-        x_major ? emit(c, r) : emit(r, c);
+      for (std::size_t r = cell(lo, v0, sv, nv); r <= cell(hi, v0, sv, nv); ++r) x_major ? emit(c, r) : emit(r, c);
     }
   }
 
-  void split(const std::vector<std::uint32_t>& ids, const Box& box, int depth) {
+  void split(std::span<const std::uint32_t> ids, const Box& box, int depth) {
     const std::size_t m = ids.size();
     const double width = box.x1 - box.x0, height = box.y1 - box.y0;
     if (m <= kLeafSize || depth >= kMaxDepth || !(width > 64 * pad_ || height > 64 * pad_) || !std::isfinite(width) ||
@@ -202,29 +201,30 @@ class PairFinder {
     const auto ny = static_cast<std::size_t>(std::clamp(std::round(ny_real), 1.0, max_axis));
     const double sx = width / static_cast<double>(nx), sy = height / static_cast<double>(ny);
 
-    // Bucket the segments by cell (counting sort).
-    std::vector<std::uint32_t> offsets(nx * ny + 1, 0);
-    for (const std::uint32_t id : ids)
-      cells_of(segments_[id], box, nx, ny, sx, sy, [&](std::size_t c, std::size_t r) { ++offsets[r * nx + c + 1]; });
-    for (std::size_t k = 0; k < nx * ny; ++k) offsets[k + 1] += offsets[k];
-    std::vector<std::uint32_t> items(offsets.back());
-    {
-      std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
-      for (const std::uint32_t id : ids)
-        cells_of(segments_[id], box, nx, ny, sx, sy, [&](std::size_t c, std::size_t r) { items[fill[r * nx + c]++] = id; });
+    // Bucket the segments by cell: one walk records (cell, segment), a counting sort groups them.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> entries;
+    entries.reserve(2 * ids.size());
+    for (const std::uint32_t id : ids) {
+      cells_of(segments_[id], box, nx, ny, sx, sy,
+               [&](std::size_t c, std::size_t r) { entries.emplace_back(static_cast<std::uint32_t>(r * nx + c), id); });
     }
-    std::vector<std::uint32_t> child;
+    std::vector<std::uint32_t> offsets(nx * ny + 1, 0);
+    for (const auto& entry : entries) ++offsets[entry.first + 1];
+    for (std::size_t k = 0; k < nx * ny; ++k) offsets[k + 1] += offsets[k];
+    std::vector<std::uint32_t> items(entries.size());
+    for (const auto& [k, id] : entries) items[offsets[k]++] = id;  // offsets[k] ends as the start of k + 1
+    entries = {};
     for (std::size_t r = 0; r < ny; ++r) {
       for (std::size_t c = 0; c < nx; ++c) {
         const std::size_t k = r * nx + c;
-        if (offsets[k + 1] - offsets[k] < 2) continue;
-        child.assign(items.begin() + offsets[k], items.begin() + offsets[k + 1]);
+        const std::uint32_t begin = k == 0 ? 0 : offsets[k - 1], end = offsets[k];
+        if (end - begin < 2) continue;
         Box cell_box;
         cell_box.x0 = c == 0 ? box.x0 : box.x0 + static_cast<double>(c) * sx - pad_;
         cell_box.x1 = c + 1 == nx ? box.x1 : box.x0 + static_cast<double>(c + 1) * sx + pad_;
         cell_box.y0 = r == 0 ? box.y0 : box.y0 + static_cast<double>(r) * sy - pad_;
         cell_box.y1 = r + 1 == ny ? box.y1 : box.y0 + static_cast<double>(r + 1) * sy + pad_;
-        split(child, cell_box, depth + 1);
+        split(std::span<const std::uint32_t>(items.data() + begin, end - begin), cell_box, depth + 1);
       }
     }
   }
@@ -294,18 +294,16 @@ RegionReport check_region(const std::vector<Polygon2>& polygons, const CheckOpti
       while (info.kept.size() > 1 && pts[info.kept.back()] == pts[info.kept.front()]) {
         ++report.duplicate_points;
         problems.add("duplicate-point",
-                     ring_name(info) + ": last vertex " + std::to_string(info.kept.back()) +
-                         " repeats the first at " + format_point(pts[info.kept.back()]) +
-                         " (rings are closed implicitly)",
+                     ring_name(info) + ": last vertex " + std::to_string(info.kept.back()) + " repeats the first at " +
+                         format_point(pts[info.kept.back()]) + " (rings are closed implicitly)",
                      r);
         info.kept.pop_back();
       }
       if (!detail::has_three_distinct_points(pts)) {
         ++report.short_rings;
-        problems.add("short-ring",
-                     ring_name(info) + " has fewer than 3 distinct points (" + std::to_string(pts.size()) +
-                         " vertices)",
-                     r);
+        problems.add(
+            "short-ring",
+            ring_name(info) + " has fewer than 3 distinct points (" + std::to_string(pts.size()) + " vertices)", r);
         continue;
       }
       info.usable = true;
@@ -331,8 +329,8 @@ RegionReport check_region(const std::vector<Polygon2>& polygons, const CheckOpti
       ++report.self_intersections;
       info.intersected = true;
       problems.add("self-intersection",
-                   ring_name(info) + ": the ring folds back on itself at vertex " + std::to_string(info.kept[k]) +
-                       " " + format_point(here) + " (its two segments there overlap)",
+                   ring_name(info) + ": the ring folds back on itself at vertex " + std::to_string(info.kept[k]) + " " +
+                       format_point(here) + " (its two segments there overlap)",
                    info.ring);
     }
   }

@@ -49,14 +49,13 @@ Polygon2 make_key_region(std::size_t boundary_segments) {
   };
   detail::OutlineRing outer;
   for (const Vec2& corner : corners) outer.pieces.push_back(line_from(corner));
-  outer.pieces.push_back(arc_from({junction_x, shaft_top}, bow_center, bow_radius, junction_angle,
-                                  2 * kPi - 2 * junction_angle));
+  outer.pieces.push_back(
+      arc_from({junction_x, shaft_top}, bow_center, bow_radius, junction_angle, 2 * kPi - 2 * junction_angle));
 
   // The hole sits a little towards the bow's far end, as on a real key.
   const Vec2 hole_center(1.7, 2.5);
   const double hole_radius = 0.65;
-  detail::OutlineRing hole{{arc_from(hole_center + Vec2(hole_radius, 0), hole_center, hole_radius, 0, -2 * kPi)},
-                           true};
+  detail::OutlineRing hole{{arc_from(hole_center + Vec2(hole_radius, 0), hole_center, hole_radius, 0, -2 * kPi)}, true};
   return detail::sample_outline({outer, hole}, boundary_segments);
 }
 

@@ -20,13 +20,16 @@ std::string escape_xml(const std::string& text) {
   std::string out;
   out.reserve(text.size());
   for (const char c : text) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out += c;
+    const char* entity = c == '&'    ? "&amp;"
+                         : c == '<'  ? "&lt;"
+                         : c == '>'  ? "&gt;"
+                         : c == '"'  ? "&quot;"
+                         : c == '\'' ? "&apos;"
+                                     : nullptr;
+    if (entity != nullptr) {
+      out += entity;
+    } else {
+      out += c;
     }
   }
   return out;
@@ -79,8 +82,8 @@ std::string region_svg(const std::vector<Polygon2>& polygons, const SvgOptions& 
   const double stroke_width = std::max(0.5, width_px / 1000);
 
   std::string out;
-  out += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + pixels(width_px) + "\" height=\"" +
-         pixels(height_px) + "\" viewBox=\"0 0 " + pixels(width_px) + " " + pixels(height_px) + "\">\n";
+  out += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + pixels(width_px) + "\" height=\"" + pixels(height_px) +
+         "\" viewBox=\"0 0 " + pixels(width_px) + " " + pixels(height_px) + "\">\n";
   if (!options.title.empty()) out += "<title>" + escape_xml(options.title) + "</title>\n";
   out += "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   const std::string style = "fill=\"" + escape_xml(options.fill) + "\" stroke=\"" + escape_xml(options.stroke) +
@@ -111,8 +114,9 @@ std::string region_svg(const std::vector<Polygon2>& polygons, const SvgOptions& 
     out += "\"/>\n";
   }
   if (!options.title.empty()) {
-    out += "<text x=\"" + pixels(margin) + "\" y=\"" + pixels(1.2 * font_size) + "\" font-family=\"sans-serif\" font-size=\"" +
-           pixels(font_size) + "\">" + escape_xml(options.title) + "</text>\n";
+    out += "<text x=\"" + pixels(margin) + "\" y=\"" + pixels(1.2 * font_size) +
+           "\" font-family=\"sans-serif\" font-size=\"" + pixels(font_size) + "\">" + escape_xml(options.title) +
+           "</text>\n";
   }
   out += "</svg>\n";
   return out;

@@ -10,6 +10,7 @@
 #include <cctype>
 #include <cstdlib>
 #include <filesystem>
+#include <ostream>
 #include <set>
 #include <string>
 
@@ -57,6 +58,9 @@ const Expected kTable[] = {
     {"tosca_michael.off", 52565, 105028, false, +1, -2, -1, 1001, 106, 0},
     {"tosca_victoria.off", 45659, 91208, false, +1, -1, -1, 1632, 112, 0},
 };
+
+// Names the file when a parameterised test fails (instead of the struct's bytes).
+void PrintTo(const Expected& e, std::ostream* os) { *os << e.file; }
 
 class SurfaceData : public testing::TestWithParam<Expected> {};
 

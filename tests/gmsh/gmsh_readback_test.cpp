@@ -7,6 +7,7 @@
 
 #include <gmsh.h>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <array>
@@ -48,8 +49,8 @@ MeshBundle hex_mesh() {
     for (int j = 0; j < 2; ++j)
       for (int i = 0; i < 2; ++i) {
         const auto at = [&](int di, int dj, int dk) { return grid_index(3, i + di, j + dj, k + dk); };
-        mesh.hexes.push_back({at(0, 0, 0), at(1, 0, 0), at(1, 1, 0), at(0, 1, 0), at(0, 0, 1), at(1, 0, 1),
-                              at(1, 1, 1), at(0, 1, 1)});
+        mesh.hexes.push_back(
+            {at(0, 0, 0), at(1, 0, 0), at(1, 1, 0), at(0, 1, 0), at(0, 0, 1), at(1, 0, 1), at(1, 1, 1), at(0, 1, 1)});
         mesh.hex_labels.push_back(10 + k);
       }
   return mesh;
@@ -60,7 +61,8 @@ MeshBundle tet_mesh() {
   const MeshBundle hexes = hex_mesh();
   MeshBundle mesh;
   mesh.points = hexes.points;
-  static constexpr int kSplit[6][4] = {{0, 1, 2, 6}, {0, 2, 3, 6}, {0, 3, 7, 6}, {0, 7, 4, 6}, {0, 4, 5, 6}, {0, 5, 1, 6}};
+  static constexpr int kSplit[6][4] = {{0, 1, 2, 6}, {0, 2, 3, 6}, {0, 3, 7, 6},
+                                       {0, 7, 4, 6}, {0, 4, 5, 6}, {0, 5, 1, 6}};
   for (const auto& h : hexes.hexes)
     for (const auto& t : kSplit) {
       const std::array<Index, 4> tet{h[t[0]], h[t[1]], h[t[2]], h[t[3]]};
@@ -133,6 +135,8 @@ class GmshReadback : public ::testing::Test {
       for (const auto& [tag, e] : order)
         for (std::size_t k = 0; k < per; ++k) nodes_by_type[types[t]].push_back(element_nodes[t][e * per + k]);
     }
+    EXPECT_EQ(nodes_by_type.size(), static_cast<std::size_t>(!mesh.triangles.empty()) + !mesh.quads.empty() +
+                                        !mesh.tets.empty() + !mesh.hexes.empty());
     const auto expect_type = [&](int type, const auto& elements) {
       std::vector<std::size_t> expected;
       for (const auto& element : elements)
@@ -143,8 +147,6 @@ class GmshReadback : public ::testing::Test {
     expect_type(3, mesh.quads);
     expect_type(4, mesh.tets);
     expect_type(5, mesh.hexes);
-    EXPECT_EQ(nodes_by_type.size(), static_cast<std::size_t>(!mesh.triangles.empty()) + !mesh.quads.empty() +
-                                        !mesh.tets.empty() + !mesh.hexes.empty());
 
     std::set<std::int32_t> volume_labels(mesh.tet_labels.begin(), mesh.tet_labels.end());
     volume_labels.insert(mesh.hex_labels.begin(), mesh.hex_labels.end());
@@ -153,7 +155,9 @@ class GmshReadback : public ::testing::Test {
     gmsh::model::getEntities(volumes, 3);
     std::set<std::int32_t> gmsh_volumes;
     for (const auto& [dim, tag] : volumes) gmsh_volumes.insert(tag);
-    if (!volume_labels.empty()) EXPECT_EQ(gmsh_volumes, volume_labels) << name;
+    if (!volume_labels.empty()) {
+      EXPECT_EQ(gmsh_volumes, volume_labels) << name;
+    }
   }
 };
 
@@ -196,20 +200,22 @@ TEST(VtkReadsOurVtu, CountsTypesCoordinatesAndArrays) {
   const std::string output = run_python(
       "import vtk\n"
       "r = vtk.vtkXMLUnstructuredGridReader()\n"
-      "r.SetFileName('" + path.string() + "')\n"
-      "r.Update()\n"
-      "g = r.GetOutput()\n"
-      "print(g.GetNumberOfPoints(), g.GetNumberOfCells())\n"
-      "print(' '.join(str(g.GetCellType(c)) for c in range(g.GetNumberOfCells())))\n"
-      "print(' '.join(str(g.GetCell(c).GetPointId(k)) for c in range(g.GetNumberOfCells())"
-      " for k in range(g.GetCell(c).GetNumberOfPoints())))\n"
-      "print(' '.join(repr(g.GetPoint(8)[k]) for k in range(3)))\n"
-      "a = g.GetCellData().GetArray('part')\n"
-      "print(a.GetDataTypeAsString(), ' '.join(str(int(a.GetTuple1(c))) for c in range(a.GetNumberOfTuples())))\n"
-      "q = g.GetCellData().GetArray('quality')\n"
-      "print(repr(q.GetTuple1(2)))\n"
-      "t = g.GetPointData().GetArray('temperature')\n"
-      "print(repr(t.GetTuple1(3)))\n",
+      "r.SetFileName('" +
+          path.string() +
+          "')\n"
+          "r.Update()\n"
+          "g = r.GetOutput()\n"
+          "print(g.GetNumberOfPoints(), g.GetNumberOfCells())\n"
+          "print(' '.join(str(g.GetCellType(c)) for c in range(g.GetNumberOfCells())))\n"
+          "print(' '.join(str(g.GetCell(c).GetPointId(k)) for c in range(g.GetNumberOfCells())"
+          " for k in range(g.GetCell(c).GetNumberOfPoints())))\n"
+          "print(' '.join(repr(g.GetPoint(8)[k]) for k in range(3)))\n"
+          "a = g.GetCellData().GetArray('part')\n"
+          "print(a.GetDataTypeAsString(), ' '.join(str(int(a.GetTuple1(c))) for c in range(a.GetNumberOfTuples())))\n"
+          "q = g.GetCellData().GetArray('quality')\n"
+          "print(repr(q.GetTuple1(2)))\n"
+          "t = g.GetPointData().GetArray('temperature')\n"
+          "print(repr(t.GetTuple1(3)))\n",
       "vtk_reads_vtu");
   std::istringstream lines(output);
   std::string line;
@@ -241,11 +247,13 @@ TEST(VtkReadsOurVtu, ParallelIndex) {
   const std::string output = run_python(
       "import vtk\n"
       "r = vtk.vtkXMLPUnstructuredGridReader()\n"
-      "r.SetFileName('" + (dir / "pieces.pvtu").string() + "')\n"
-      "r.Update()\n"
-      "g = r.GetOutput()\n"
-      "a = g.GetCellData().GetArray('part')\n"
-      "print(g.GetNumberOfPoints(), g.GetNumberOfCells(), int(a.GetRange()[0]), int(a.GetRange()[1]))\n",
+      "r.SetFileName('" +
+          (dir / "pieces.pvtu").string() +
+          "')\n"
+          "r.Update()\n"
+          "g = r.GetOutput()\n"
+          "a = g.GetCellData().GetArray('part')\n"
+          "print(g.GetNumberOfPoints(), g.GetNumberOfCells(), int(a.GetRange()[0]), int(a.GetRange()[1]))\n",
       "vtk_reads_pvtu");
   EXPECT_EQ(output, "36 13 1 2\n");
 }
@@ -274,29 +282,33 @@ TEST(OurReaderReadsVtkVtu, EveryUncompressedEncoding) {
       "def write(name, mode, header64, encode=True, big=False):\n"
       "    w = vtk.vtkXMLUnstructuredGridWriter()\n"
       "    w.SetInputData(g)\n"
-      "    w.SetFileName('" + dir.string() + "/' + name)\n"
-      "    w.SetCompressorTypeToNone()\n"
-      "    if big: w.SetByteOrderToBigEndian()\n"
-      "    if header64: w.SetHeaderTypeToUInt64()\n"
-      "    else: w.SetHeaderTypeToUInt32()\n"
-      "    if mode == 'ascii': w.SetDataModeToAscii()\n"
-      "    elif mode == 'binary': w.SetDataModeToBinary()\n"
-      "    else:\n"
-      "        w.SetDataModeToAppended()\n"
-      "        w.SetEncodeAppendedData(encode)\n"
-      "    w.Write()\n"
-      "write('vtk_ascii.vtu', 'ascii', False)\n"
-      "write('vtk_binary32.vtu', 'binary', False)\n"
-      "write('vtk_binary64.vtu', 'binary', True)\n"
-      "write('vtk_raw32.vtu', 'appended', False, False)\n"
-      "write('vtk_raw64.vtu', 'appended', True, False)\n"
-      "write('vtk_base64_32.vtu', 'appended', False, True)\n"
-      "write('vtk_base64_64.vtu', 'appended', True, True)\n"
-      "write('vtk_raw64_big.vtu', 'appended', True, False, True)\n"
-      "c = vtk.vtkXMLUnstructuredGridWriter()\n"
-      "c.SetInputData(g)\n"
-      "c.SetFileName('" + dir.string() + "/vtk_zlib.vtu')\n"
-      "c.Write()\n",
+      "    w.SetFileName('" +
+          dir.string() +
+          "/' + name)\n"
+          "    w.SetCompressorTypeToNone()\n"
+          "    if big: w.SetByteOrderToBigEndian()\n"
+          "    if header64: w.SetHeaderTypeToUInt64()\n"
+          "    else: w.SetHeaderTypeToUInt32()\n"
+          "    if mode == 'ascii': w.SetDataModeToAscii()\n"
+          "    elif mode == 'binary': w.SetDataModeToBinary()\n"
+          "    else:\n"
+          "        w.SetDataModeToAppended()\n"
+          "        w.SetEncodeAppendedData(encode)\n"
+          "    w.Write()\n"
+          "write('vtk_ascii.vtu', 'ascii', False)\n"
+          "write('vtk_binary32.vtu', 'binary', False)\n"
+          "write('vtk_binary64.vtu', 'binary', True)\n"
+          "write('vtk_raw32.vtu', 'appended', False, False)\n"
+          "write('vtk_raw64.vtu', 'appended', True, False)\n"
+          "write('vtk_base64_32.vtu', 'appended', False, True)\n"
+          "write('vtk_base64_64.vtu', 'appended', True, True)\n"
+          "write('vtk_raw64_big.vtu', 'appended', True, False, True)\n"
+          "c = vtk.vtkXMLUnstructuredGridWriter()\n"
+          "c.SetInputData(g)\n"
+          "c.SetFileName('" +
+          dir.string() +
+          "/vtk_zlib.vtu')\n"
+          "c.Write()\n",
       "vtk_writes_vtu");
   for (const char* name : {"vtk_ascii.vtu", "vtk_binary32.vtu", "vtk_binary64.vtu", "vtk_raw32.vtu", "vtk_raw64.vtu",
                            "vtk_base64_32.vtu", "vtk_base64_64.vtu", "vtk_raw64_big.vtu"}) {

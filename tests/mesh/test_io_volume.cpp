@@ -6,8 +6,8 @@
 #include "structmesh/io.hpp"
 #include "structmesh/mesh.hpp"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <array>
@@ -257,8 +257,8 @@ void write_box_geo(const std::filesystem::path& path, bool hexes) {
 
 void run_gmsh(const std::filesystem::path& geo, const std::string& options, const std::filesystem::path& out) {
   ASSERT_EQ(std::system("command -v gmsh > /dev/null 2>&1"), 0) << "the gmsh CLI is required (Debian: gmsh)";
-  const std::string command = "gmsh '" + geo.string() + "' -3 " + options + " -o '" + out.string() + "' > '" +
-                              out.string() + ".log' 2>&1";
+  const std::string command =
+      "gmsh '" + geo.string() + "' -3 " + options + " -o '" + out.string() + "' > '" + out.string() + ".log' 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0) << command;
 }
 
@@ -353,9 +353,10 @@ TEST(MeditReader, SkipsOtherSectionsCommentsAndReadsTwoDimensions) {
 
 TEST(MeditReader, Errors) {
   const std::string head = "MeshVersionFormatted 2\nDimension 3\nVertices\n4\n0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n";
-  EXPECT_NE(error_of(read_medit, "").find("bad.file: empty file"), std::string::npos);
+  EXPECT_NE(error_of(read_medit, "").find("bad.file:1: empty file"), std::string::npos);
   EXPECT_NE(error_of(read_medit, "   \n# only a comment\n").find("empty file"), std::string::npos);
   EXPECT_NE(error_of(read_medit, "solid x\nfacet\n").find("not a MEDIT file"), std::string::npos);
+  EXPECT_NE(error_of(read_medit, std::string("\1\0\0\0\2\0\0\0", 8)).find("binary MEDIT (.meshb)"), std::string::npos);
   // Truncated inside the vertices (the count alone does not give it away).
   EXPECT_NE(error_of(read_medit, "MeshVersionFormatted 2\nDimension 3\nVertices\n2\n0.5000 0.5000 0.5000 1\n0.25")
                 .find("bad.file:6: unexpected end of file"),
@@ -430,8 +431,12 @@ TEST(MshReader, Errors) {
   EXPECT_NE(error_of(read_msh, "").find("empty file"), std::string::npos);
   EXPECT_NE(error_of(read_msh, "hello\n").find("not a Gmsh .msh file"), std::string::npos);
   EXPECT_NE(error_of(read_msh, head).find("no $Nodes section"), std::string::npos);
-  // Truncated inside the nodes.
-  EXPECT_NE(error_of(read_msh, head + nodes.substr(0, 40)).find("unexpected end of file"), std::string::npos);
+  // Truncated inside the nodes: caught by the count check, or while reading.
+  EXPECT_NE(error_of(read_msh, head + nodes.substr(0, 40)).find("bad.file:6: node count 4 exceeds what the file holds"),
+            std::string::npos);
+  EXPECT_NE(error_of(read_msh, head + "$Nodes\n1 2 1 2\n3 1 0 2\n1\n2\n0.0000 0.0000 0.0000\n1.0000")
+                .find("bad.file:10: unexpected end of file, expected node y coordinate"),
+            std::string::npos);
   // A node tag that does not exist, with the element's line.
   EXPECT_NE(error_of(read_msh, head + nodes + "$Elements\n1 1 1 1\n3 1 4 1\n1 1 2 3 9\n$EndElements\n")
                 .find("bad.file:19: element 1 (tetrahedron) refers to node 9, which is not in $Nodes"),
@@ -548,6 +553,13 @@ TEST(VtuReader, Errors) {
   const std::size_t data = absurd.find('_', absurd.find("<AppendedData")) + 1;
   absurd[data + 7] = '\x7f';
   EXPECT_NE(error_of(read_vtu, absurd).find("runs past the end"), std::string::npos);
+  // Two pieces sharing one appended block would let a small file demand a lot of memory.
+  MeshBundle cloud;
+  for (int i = 0; i < 1000; ++i) cloud.points.emplace_back(i, 0, 0);
+  std::string shared = write_vtu(cloud);
+  const std::size_t piece = shared.find("    <Piece"), piece_end = shared.find("</Piece>\n") + 9;
+  shared.insert(piece_end, shared.substr(piece, piece_end - piece));
+  EXPECT_NE(error_of(read_vtu, shared).find("do appended offsets overlap?"), std::string::npos);
 }
 
 }  // namespace

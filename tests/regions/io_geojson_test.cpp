@@ -54,6 +54,15 @@ TEST(GeoJson, RoundTripIsExact) {
   EXPECT_EQ(polygons[0].coordinates, Polygon2::Coordinates::Planar);
 }
 
+TEST(GeoJson, HugeCoordinatesRoundTrip) {
+  // The area overflows to infinity, which JSON cannot hold: the property becomes null.
+  const std::vector<Polygon2> polygons{make_polygon({{{0, 1e308}, {2, 1}, {3, 0}}})};
+  const std::string text = write_geojson(polygons);
+  EXPECT_NE(text.find("\"area\":null"), std::string::npos) << text;
+  expect_same(read_geojson(text, "huge"), polygons);
+  expect_same(read_poly(write_poly(polygons), "huge"), polygons);
+}
+
 TEST(GeoJson, OrientationIsNormalisedKeepingTheFirstPoint) {
   const std::string text = R"({"type":"Polygon","coordinates":[
       [[0,0],[0,10],[10,10],[10,0],[0,0]],
@@ -95,8 +104,7 @@ TEST(GeoJson, AllPolygonalContainers) {
   const auto polygons = read_geojson(text, "all.geojson");
   ASSERT_EQ(polygons.size(), 5u);
   for (std::size_t i = 0; i < 5; ++i) EXPECT_EQ(polygons[i].ring(0)[0], Vec2(2.0 * i, 0));
-  EXPECT_EQ(read_geojson(R"({"type":"Feature","geometry":{"type":"Polygon","coordinates":[[[0,0],[1,0],[0,1]]]}})",
-                         "f")
+  EXPECT_EQ(read_geojson(R"({"type":"Feature","geometry":{"type":"Polygon","coordinates":[[[0,0],[1,0],[0,1]]]}})", "f")
                 .size(),
             1u);
 }
