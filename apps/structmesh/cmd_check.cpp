@@ -39,10 +39,12 @@ int check_surface_file(const GlobalOptions& global, const MeshBundle& mesh, cons
   row(global, "vertices / faces / edges",
       std::to_string(r.vertices) + " / " + std::to_string(r.faces) + " / " + std::to_string(r.edges));
   row(global, "closed", yes_no(r.closed) + " (" + std::to_string(r.boundary_edges) + " boundary edges)");
-  row(global, "edge-manifold", yes_no(r.edge_manifold) + " (" + std::to_string(r.non_manifold_edges) + " non-manifold edges)");
+  row(global, "edge-manifold",
+      yes_no(r.edge_manifold) + " (" + std::to_string(r.non_manifold_edges) + " non-manifold edges)");
   row(global, "non-manifold vertices", std::to_string(r.non_manifold_vertices));
   row(global, "consistently oriented", yes_no(r.oriented));
-  row(global, "signed volume", std::to_string(r.signed_volume) + (r.signed_volume > 0 ? " (outward)" : " (inward or open)"));
+  row(global, "signed volume",
+      std::to_string(r.signed_volume) + (r.signed_volume > 0 ? " (outward)" : " (inward or open)"));
   row(global, "components", std::to_string(r.components));
   row(global, "Euler characteristic", std::to_string(r.euler_characteristic));
   row(global, "genus", r.genus >= 0 ? std::to_string(r.genus) : std::string("- (not a closed oriented manifold)"));
@@ -118,6 +120,7 @@ int check_region_file(const GlobalOptions& global, const std::string& file, cons
   row(global, "nested/overlapping holes", std::to_string(r.nested_holes));
   row(global, "short rings", std::to_string(r.short_rings));
   row(global, "duplicate points", std::to_string(r.duplicate_points));
+  row(global, "overlapping polygons", std::to_string(r.overlapping_polygons));
   row(global, "valid", yes_no(r.valid));
   print_problems(global, file, r.problems);
   write_json_report(global, {{"file", file},
@@ -133,6 +136,7 @@ int check_region_file(const GlobalOptions& global, const std::string& file, cons
                              {"nested_holes", r.nested_holes},
                              {"short_rings", r.short_rings},
                              {"duplicate_points", r.duplicate_points},
+                             {"overlapping_polygons", r.overlapping_polygons},
                              {"valid", r.valid},
                              {"problems", problems_json(r.problems)}});
   return r.valid ? 0 : 2;
@@ -148,7 +152,9 @@ Action add_check_command(CLI::App& command, const GlobalOptions& global) {
     std::size_t max_problems = 20;
   };
   auto settings = std::make_shared<Settings>();
-  command.add_option("FILE", settings->file, "Surface (.obj .off .ply .stl), volume (.mesh .msh .vtu) or region (.geojson .poly)")
+  command
+      .add_option("FILE", settings->file,
+                  "Surface (.obj .off .ply .stl), volume (.mesh .msh .vtu) or region (.geojson .poly)")
       ->required();
   command.add_option("--as", settings->as, "What to check the file as")
       ->check(CLI::IsMember({"auto", "surface", "volume", "region"}));

@@ -32,24 +32,7 @@ Action add_convert_command(CLI::App& command, const GlobalOptions& global) {
       report["polygons"] = region.size();
     } else {
       const MeshBundle mesh = read_mesh(settings->input);
-      WriteOptions options;
-      const auto add_labels = [&](const auto& labels, std::size_t count, std::size_t offset, std::vector<int>& all) {
-        for (std::size_t i = 0; i < count; ++i) all[offset + i] = labels.empty() ? 0 : labels[i];
-      };
-      if (!mesh.triangle_labels.empty() || !mesh.quad_labels.empty() || !mesh.tet_labels.empty() ||
-          !mesh.hex_labels.empty()) {
-        std::vector<int> labels(mesh.cell_count(), 0);
-        std::size_t offset = 0;
-        add_labels(mesh.triangle_labels, mesh.triangles.size(), offset, labels);
-        offset += mesh.triangles.size();
-        add_labels(mesh.quad_labels, mesh.quads.size(), offset, labels);
-        offset += mesh.quads.size();
-        add_labels(mesh.tet_labels, mesh.tets.size(), offset, labels);
-        offset += mesh.tets.size();
-        add_labels(mesh.hex_labels, mesh.hexes.size(), offset, labels);
-        options.cell_data.push_back({"label", {}, std::vector<std::int32_t>(labels.begin(), labels.end())});
-      }
-      write_mesh(settings->output, mesh, options);
+      write_mesh(settings->output, mesh);  // element labels travel with the bundle
       report.update({{"points", mesh.points.size()},
                      {"triangles", mesh.triangles.size()},
                      {"quads", mesh.quads.size()},

@@ -20,8 +20,9 @@ Action add_generate_command(CLI::App& command, const GlobalOptions& global) {
   command.add_option("SHAPE", settings->shape, "key (1 hole) or pipe (9 holes)")
       ->required()
       ->check(CLI::IsMember({"key", "pipe"}));
-  command.add_option("--segments", settings->segments,
-                     "Boundary segments over all rings (default 2000 for the key, 4000 for the pipe)")
+  command
+      .add_option("--segments", settings->segments,
+                  "Boundary segments over all rings (default 2000 for the key, 4000 for the pipe)")
       ->check(CLI::Range(std::size_t{16}, std::size_t{200'000'000}));
   command.add_option("-o,--output", settings->outputs, "Output files: .geojson .poly .svg .png (repeatable)")
       ->required();
@@ -30,7 +31,8 @@ Action add_generate_command(CLI::App& command, const GlobalOptions& global) {
     const std::size_t segments = settings->segments > 0 ? settings->segments : (key ? 2000 : 4000);
     const std::vector<Polygon2> region{key ? make_key_region(segments) : make_pipe_region(segments)};
     const RegionReport check = check_region(region);
-    if (!check.valid) throw Error("generated " + settings->shape + " region is invalid: " + check.problems.front().message);
+    if (!check.valid)
+      throw Error("generated " + settings->shape + " region is invalid: " + check.problems.front().message);
     for (const std::string& output : settings->outputs) {
       const FileFormat format = format_from_path(output);
       if (format == FileFormat::Png) {

@@ -64,19 +64,26 @@ TriMesh boundary_surface(const MeshBundle& mesh) {
   return surface;
 }
 
-
 }  // namespace
 
 Action add_quality_command(CLI::App& command, const GlobalOptions& global) {
   struct Settings {
     std::string file, output, compare, image;
+    double sampling = 2e-3;
   };
   auto settings = std::make_shared<Settings>();
-  command.add_option("MESH", settings->file, "Quad or hex mesh (.vtu .msh .mesh; quads also .obj .off .ply)")->required();
+  command.add_option("MESH", settings->file, "Quad or hex mesh (.vtu .msh .mesh; quads also .obj .off .ply)")
+      ->required();
   command.add_option("-o,--output", settings->output,
                      "Write the measured elements with per-cell scaled_jacobian (hexes also corner_scaled_jacobian)");
-  command.add_option("--compare", settings->compare,
-                     "Reference surface S: report the Hausdorff distance D_g = d_H / diag(S) of the mesh boundary to S");
+  command.add_option(
+      "--compare", settings->compare,
+      "Reference surface S: report the Hausdorff distance D_g = d_H / diag(S) of the mesh boundary to S");
+  command
+      .add_option("--sampling", settings->sampling,
+                  "Hausdorff sample spacing as a fraction of the reference's bounding-box diagonal "
+                  "(error bound about 1.1x this)")
+      ->check(CLI::Range(1e-5, 0.1));
   command.add_option("--image", settings->image,
                      "Image of a tet MESH (same tets, moved points): report the volume distortion D_v of §5.3");
   return [&global, settings]() {
@@ -120,8 +127,8 @@ Action add_quality_command(CLI::App& command, const GlobalOptions& global) {
       print_row(global, "quadrilaterals", std::to_string(mesh.quads.size()));
       print_row(global, "scaled Jacobian (Verdict)", format_stats(q.scaled_jacobian_stats));
       print_row(global, "inverted (SJ <= 0)", std::to_string(q.inverted));
-      print_row(global, "singular vertices", std::to_string(q.singular_vertices) + " of " +
-                                                 std::to_string(q.interior_vertices) + " interior");
+      print_row(global, "singular vertices",
+                std::to_string(q.singular_vertices) + " of " + std::to_string(q.interior_vertices) + " interior");
       print_row(global, "reference normal", q.planar ? "+z (planar mesh)" : "per quad (Verdict)");
       print_histogram(global, q.scaled_jacobian_histogram);
       report.update({{"kind", "quad"},
@@ -169,10 +176,15 @@ Action add_quality_command(CLI::App& command, const GlobalOptions& global) {
 
     if (!settings->compare.empty()) {
       const MeshBundle reference = read_mesh(settings->compare);
-      const HausdorffResult h = hausdorff_distance(boundary_surface(reference), boundary_surface(mesh));
-      print_row(global, "Hausdorff distance d_H", std::to_string(h.distance));
+      const HausdorffResult h =
+          hausdorff_distance(boundary_surface(reference), boundary_surface(mesh), settings->sampling);
+      print_row(global, "Hausdorff distance d_H",
+                std::to_string(h.distance) + " (+" + std::to_string(h.tolerance) + " sampling bound, " +
+                    std::to_string(h.samples) + " samples)");
       print_row(global, "D_g = d_H / diag(S)", std::to_string(h.relative));
       report["hausdorff_distance"] = h.distance;
+      report["hausdorff_tolerance"] = h.tolerance;
+      report["hausdorff_samples"] = h.samples;
       report["geometric_deviation"] = h.relative;
     }
     if (!settings->image.empty()) {

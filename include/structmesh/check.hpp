@@ -63,11 +63,12 @@ VolumeReport check_volume(const MeshBundle& mesh, const CheckOptions& options = 
 struct RegionReport {
   std::size_t polygons = 0, rings = 0, holes = 0, vertices = 0;
   double area = 0;
-  std::size_t self_intersections = 0;  // crossing or touching segment pairs (within or between rings)
-  std::size_t holes_outside = 0;       // holes not inside their outer ring
-  std::size_t nested_holes = 0;        // holes inside or overlapping other holes
-  std::size_t short_rings = 0;         // fewer than 3 distinct points
-  std::size_t duplicate_points = 0;    // consecutive repeated points
+  std::size_t self_intersections = 0;    // crossing or touching segment pairs (within or between rings)
+  std::size_t holes_outside = 0;         // holes not inside their outer ring
+  std::size_t nested_holes = 0;          // holes inside or overlapping other holes
+  std::size_t short_rings = 0;           // fewer than 3 distinct points
+  std::size_t duplicate_points = 0;      // consecutive repeated points
+  std::size_t overlapping_polygons = 0;  // polygons lying inside another polygon's interior
   bool valid = false;
   std::vector<Problem> problems;
 };

@@ -26,7 +26,7 @@ enum class FileFormat {
   Stl,      // .stl  surface, ASCII and binary
   Medit,    // .mesh MEDIT: triangles, quads, tets, hexes
   Msh,      // .msh  Gmsh v4.1 (ASCII written; ASCII and binary read)
-  Vtu,      // .vtu  VTK XML unstructured grid (binary appended, raw)
+  Vtu,      // .vtu  VTK XML unstructured grid (written appended raw; read: ascii, base64, raw, zlib)
   Pvtu,     // .pvtu VTK XML parallel unstructured grid (written only)
   GeoJson,  // .geojson / .json regions: Polygon / MultiPolygon
   Poly,     // .poly Triangle's planar straight line graph with holes
@@ -109,6 +109,7 @@ std::string write_ply(const MeshBundle& mesh, Encoding encoding = Encoding::Bina
 std::string write_stl(const MeshBundle& mesh, Encoding encoding = Encoding::Binary);
 std::string write_medit(const MeshBundle& mesh);
 std::string write_msh(const MeshBundle& mesh);
+/// Also writes the bundle's labels as Int32 cell data "label" unless options.cell_data has "label" or "part".
 std::string write_vtu(const MeshBundle& mesh, const WriteOptions& options = {});
 /// A .pvtu that references `piece_files` (relative paths) with the arrays of `options`.
 std::string write_pvtu(const std::vector<std::string>& piece_files, const WriteOptions& options);

@@ -107,9 +107,7 @@ struct CompressedRows {
   std::vector<Index> offsets{0};
   std::vector<Index> items;
   std::size_t row_count() const { return offsets.size() - 1; }
-  std::span<const Index> row(std::size_t i) const {
-    return {items.data() + offsets[i], items.data() + offsets[i + 1]};
-  }
+  std::span<const Index> row(std::size_t i) const { return {items.data() + offsets[i], items.data() + offsets[i + 1]}; }
 };
 
 /// Unique undirected edges of a mesh and, for each edge, the elements that use it.

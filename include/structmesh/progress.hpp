@@ -12,8 +12,8 @@
 namespace structmesh {
 
 struct ProgressSettings {
-  bool quiet = false;   // --quiet: nothing at all
-  bool force = false;   // --progress: report even when stderr is not a TTY
+  bool quiet = false;  // --quiet: nothing at all
+  bool force = false;  // --progress: report even when stderr is not a TTY
 };
 /// Process-wide settings, set once by the CLI.
 ProgressSettings& progress_settings();

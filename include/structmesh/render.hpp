@@ -11,10 +11,10 @@
 namespace structmesh {
 
 struct SvgOptions {
-  double width_px = 1200;         // picture width; height follows the aspect ratio
-  std::string fill = "#9ecae1";   // region fill
-  std::string stroke = "#08306b"; // boundary stroke
-  std::string title;              // optional caption
+  double width_px = 1200;          // picture width; height follows the aspect ratio
+  std::string fill = "#9ecae1";    // region fill
+  std::string stroke = "#08306b";  // boundary stroke
+  std::string title;               // optional caption
 };
 
 /// An SVG of planar regions: each polygon filled (holes cut out with the even-odd

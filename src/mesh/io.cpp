@@ -1,6 +1,6 @@
 // Format dispatch, whole-file reads, atomic writes and bundle <-> typed mesh conversions.
-#include "structmesh/error.hpp"
 #include "structmesh/io.hpp"
+#include "structmesh/error.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -31,19 +31,32 @@ FileFormat format_from_path(const std::filesystem::path& path) {
 
 std::string format_name(FileFormat format) {
   switch (format) {
-    case FileFormat::Obj: return "OBJ";
-    case FileFormat::Off: return "OFF";
-    case FileFormat::Ply: return "PLY";
-    case FileFormat::Stl: return "STL";
-    case FileFormat::Medit: return "MEDIT";
-    case FileFormat::Msh: return "Gmsh MSH";
-    case FileFormat::Vtu: return "VTK XML unstructured grid";
-    case FileFormat::Pvtu: return "VTK XML parallel unstructured grid";
-    case FileFormat::GeoJson: return "GeoJSON";
-    case FileFormat::Poly: return "Triangle .poly";
-    case FileFormat::Svg: return "SVG";
-    case FileFormat::Png: return "PNG";
-    case FileFormat::Unknown: break;
+    case FileFormat::Obj:
+      return "OBJ";
+    case FileFormat::Off:
+      return "OFF";
+    case FileFormat::Ply:
+      return "PLY";
+    case FileFormat::Stl:
+      return "STL";
+    case FileFormat::Medit:
+      return "MEDIT";
+    case FileFormat::Msh:
+      return "Gmsh MSH";
+    case FileFormat::Vtu:
+      return "VTK XML unstructured grid";
+    case FileFormat::Pvtu:
+      return "VTK XML parallel unstructured grid";
+    case FileFormat::GeoJson:
+      return "GeoJSON";
+    case FileFormat::Poly:
+      return "Triangle .poly";
+    case FileFormat::Svg:
+      return "SVG";
+    case FileFormat::Png:
+      return "PNG";
+    case FileFormat::Unknown:
+      break;
   }
   return "unknown";
 }
@@ -88,17 +101,31 @@ void write_file_atomic(const std::filesystem::path& path, std::string_view conte
 MeshBundle read_mesh_buffer(std::string_view data, FileFormat format, const std::string& source_name) {
   MeshBundle mesh;
   switch (format) {
-    case FileFormat::Obj: mesh = read_obj(data, source_name); break;
-    case FileFormat::Off: mesh = read_off(data, source_name); break;
-    case FileFormat::Ply: mesh = read_ply(data, source_name); break;
-    case FileFormat::Stl: mesh = read_stl(data, source_name); break;
-    case FileFormat::Medit: mesh = read_medit(data, source_name); break;
-    case FileFormat::Msh: mesh = read_msh(data, source_name); break;
-    case FileFormat::Vtu: mesh = read_vtu(data, source_name); break;
+    case FileFormat::Obj:
+      mesh = read_obj(data, source_name);
+      break;
+    case FileFormat::Off:
+      mesh = read_off(data, source_name);
+      break;
+    case FileFormat::Ply:
+      mesh = read_ply(data, source_name);
+      break;
+    case FileFormat::Stl:
+      mesh = read_stl(data, source_name);
+      break;
+    case FileFormat::Medit:
+      mesh = read_medit(data, source_name);
+      break;
+    case FileFormat::Msh:
+      mesh = read_msh(data, source_name);
+      break;
+    case FileFormat::Vtu:
+      mesh = read_vtu(data, source_name);
+      break;
     default:
-      throw InputError(located_message(source_name, 0,
-                                       "not a mesh format structmesh reads (" + format_name(format) +
-                                           "); use .obj .off .ply .stl .mesh .msh .vtu"));
+      throw InputError(located_message(
+          source_name, 0,
+          "not a mesh format structmesh reads (" + format_name(format) + "); use .obj .off .ply .stl .mesh .msh .vtu"));
   }
   mesh.source_name = source_name;
   return mesh;
@@ -116,17 +143,31 @@ void write_mesh(const std::filesystem::path& path, const MeshBundle& mesh, const
   const FileFormat format = format_from_path(path);
   std::string content;
   switch (format) {
-    case FileFormat::Obj: content = write_obj(mesh); break;
-    case FileFormat::Off: content = write_off(mesh); break;
-    case FileFormat::Ply: content = write_ply(mesh); break;
-    case FileFormat::Stl: content = write_stl(mesh); break;
-    case FileFormat::Medit: content = write_medit(mesh); break;
-    case FileFormat::Msh: content = write_msh(mesh); break;
-    case FileFormat::Vtu: content = write_vtu(mesh, options); break;
+    case FileFormat::Obj:
+      content = write_obj(mesh);
+      break;
+    case FileFormat::Off:
+      content = write_off(mesh);
+      break;
+    case FileFormat::Ply:
+      content = write_ply(mesh);
+      break;
+    case FileFormat::Stl:
+      content = write_stl(mesh);
+      break;
+    case FileFormat::Medit:
+      content = write_medit(mesh);
+      break;
+    case FileFormat::Msh:
+      content = write_msh(mesh);
+      break;
+    case FileFormat::Vtu:
+      content = write_vtu(mesh, options);
+      break;
     default:
-      throw InputError(located_message(path.string(), 0,
-                                       "cannot write a mesh as " + format_name(format) +
-                                           "; use .obj .off .ply .stl .mesh .msh .vtu"));
+      throw InputError(located_message(
+          path.string(), 0,
+          "cannot write a mesh as " + format_name(format) + "; use .obj .off .ply .stl .mesh .msh .vtu"));
   }
   write_file_atomic(path, content);
 }
@@ -135,8 +176,7 @@ namespace {
 
 template <typename Elements>
 void require_kind(const MeshBundle& mesh, const Elements& elements, const char* kind, bool others_present) {
-  if (elements.empty())
-    throw InputError(located_message(mesh.source_name, 0, std::string("holds no ") + kind));
+  if (elements.empty()) throw InputError(located_message(mesh.source_name, 0, std::string("holds no ") + kind));
   if (others_present)
     throw InputError(located_message(mesh.source_name, 0, std::string("holds other element kinds beside ") + kind));
 }
@@ -200,8 +240,8 @@ void write_region(const std::filesystem::path& path, const std::vector<Polygon2>
   const FileFormat format = format_from_path(path);
   if (format == FileFormat::GeoJson) return write_file_atomic(path, write_geojson(polygons));
   if (format == FileFormat::Poly) return write_file_atomic(path, write_poly(polygons));
-  throw InputError(located_message(path.string(), 0, "cannot write a region as " + format_name(format) +
-                                                         "; use .geojson or .poly"));
+  throw InputError(
+      located_message(path.string(), 0, "cannot write a region as " + format_name(format) + "; use .geojson or .poly"));
 }
 
 }  // namespace structmesh

@@ -2,8 +2,8 @@
 // and GeometryCollection of those.
 //
 // Reading: each ring's repeated closing position is dropped (Polygon2 rings are
-// implicitly closed); a ring whose last position differs from its first is
-// accepted and closed implicitly too, since the closing edge is unambiguous.
+// implicitly closed); a ring whose last position differs from its first is an
+// InputError naming the feature, polygon and ring.
 // Rings are reoriented to the Polygon2 convention (outer CCW, holes CW).
 // Coordinates: a "structmesh:coordinates" member ("planar" or "lonlat") on the
 // root object or on a Feature decides; otherwise a legacy "crs" member naming
@@ -165,8 +165,13 @@ class GeoJsonReader {
       }
       points.push_back(p);
     }
-    if (points.size() >= 2 && points.front() == points.back()) points.pop_back();
     if (!detail::has_three_distinct_points(points)) fail(where, "ring has fewer than 3 distinct points");
+    // RFC 7946 §3.1.6: a linear ring's last position repeats its first. An open
+    // ring is rejected rather than closed silently: its closing edge might cut
+    // through the region, and `structmesh check` must be able to say so.
+    if (points.size() < 2 || points.front() != points.back())
+      fail(where, "ring is not closed: its last position must repeat the first (RFC 7946)");
+    points.pop_back();
   }
 
   const std::string& source_;

@@ -2,11 +2,12 @@
 //
 // Written: one Piece, raw appended binary data (little endian, UInt64 block headers),
 // Float64 points, Int64 connectivity and offsets, UInt8 cell types; cells in bundle
-// order (triangles, quads, tets, hexes).
-// Read: what VTK's vtkXMLUnstructuredGridWriter produces without compression: ascii,
-// inline base64 ("binary") and appended raw or base64 data, UInt32 or UInt64 headers,
-// either byte order, any numeric type, several pieces (concatenated). Cell types 5
-// (triangle), 9 (quad), 10 (tet), 12 (hex) and, reordered, 8 (pixel) and 11 (voxel).
+// order (triangles, quads, tets, hexes); the bundle's labels as an Int32 array "label".
+// Read: what VTK's vtkXMLUnstructuredGridWriter produces, uncompressed or with its
+// default vtkZLibDataCompressor: ascii, inline base64 ("binary") and appended raw or
+// base64 data, UInt32 or UInt64 headers, either byte order, any numeric type, several
+// pieces (concatenated). Cell types 5 (triangle), 9 (quad), 10 (tet), 12 (hex) and,
+// reordered, 8 (pixel) and 11 (voxel).
 // An Int cell-data array named "part" (or else "label") becomes the element labels.
 // XML has no line structure worth recording per element, so mesh.lines stays empty.
 //
@@ -32,6 +33,8 @@
 #include <type_traits>
 #include <utility>
 #include <vector>
+
+#include <zlib.h>
 
 namespace structmesh {
 namespace {
@@ -225,6 +228,7 @@ struct PieceInfo {
 
 struct FileInfo {
   bool big_endian = false;
+  bool zlib = false;            // compressor="vtkZLibDataCompressor"
   std::size_t header_size = 4;  // UInt32 unless header_type says UInt64
   bool appended_base64 = false;
   std::optional<std::size_t> appended_begin;  // position after the '_'
@@ -285,12 +289,32 @@ class Base64Reader {
   std::size_t pos_;
 };
 
+/// Bytes the arrays of one file may still take, so that a small hostile file cannot
+/// demand gigabytes.
+struct Budget {
+  std::uint64_t stored = 0;    // binary bytes read from the file (at most its size)
+  std::uint64_t inflated = 0;  // bytes produced by decompression
+};
+
+/// VTK's compressed data (vtkXMLWriter, read back by vtkXMLDataParser): a header of
+/// header_type integers [blocks, block size, size of a partial last block (0: full),
+/// compressed size of each block], then the blocks' zlib streams back to back.
+struct CompressedBlocks {
+  std::uint64_t count = 0, size = 0, last_size = 0;
+  std::vector<std::uint64_t> compressed;
+  std::uint64_t compressed_total = 0, inflated_total = 0;
+
+  std::uint64_t inflated_size(std::uint64_t block) const {
+    return block + 1 == count && last_size != 0 ? last_size : size;
+  }
+};
+
 /// Values of one array, widened to double (points) or int64 (everything else).
 template <typename Out>
 class ArrayDecoder {
  public:
-  /// `budget`: binary bytes still allowed to be decoded, shared by all arrays of the file.
-  ArrayDecoder(const Source& source, const FileInfo& file, std::uint64_t& budget)
+  /// `budget` is shared by all arrays of the file.
+  ArrayDecoder(const Source& source, const FileInfo& file, Budget& budget)
       : source_(source), file_(file), budget_(budget) {}
 
   std::vector<Out> decode(const ArrayInfo& array, const char* what) {
@@ -300,15 +324,18 @@ class ArrayDecoder {
       if (is_float(array.type)) fail(std::string(what) + " must be an integer array, not floating point");
     }
     if (array.format == "ascii") return decode_ascii();
-    if (array.format == "binary") return decode_base64(array.content_begin, array.content_end);
+    if (array.format == "binary")
+      return file_.zlib ? decode_base64_compressed(array.content_begin, array.content_end)
+                        : decode_base64(array.content_begin, array.content_end);
     if (array.format == "appended") {
       if (!file_.appended_begin) fail(std::string(what) + " is appended but the file has no <AppendedData>");
       const std::size_t begin = *file_.appended_begin;
       const std::size_t size = source_.data().size();
       if (array.offset > size - begin) fail(std::string(what) + ": appended offset beyond the end of the file");
       const std::size_t start = begin + static_cast<std::size_t>(array.offset);
-      if (file_.appended_base64) return decode_base64(start, size);
-      return decode_raw_block(source_.data().substr(start));
+      if (file_.appended_base64) return file_.zlib ? decode_base64_compressed(start, size) : decode_base64(start, size);
+      return file_.zlib ? decode_raw_compressed(source_.data().substr(start))
+                        : decode_raw_block(source_.data().substr(start));
     }
     fail(std::string(what) + ": unknown DataArray format '" + clip(array.format) + "'");
   }
@@ -390,18 +417,120 @@ class ArrayDecoder {
     return values;
   }
 
-  void check_block(std::uint64_t byte_count, std::size_t available) {
+  void check_block(std::uint64_t byte_count, std::uint64_t available) {
     if (byte_count > available)
       fail(std::string(what_) + ": data block of " + std::to_string(byte_count) +
            " bytes runs past the end (truncated?)");
-    // Arrays (of several pieces) could all point at one large appended block; without
-    // this cap a small file could demand gigabytes. Valid files never share blocks.
-    if (byte_count > budget_)
+    take_stored(byte_count);
+    check_value_size(byte_count);
+  }
+
+  // Arrays (of several pieces) could all point at one large appended block; without
+  // this cap a small file could demand gigabytes. Valid files never share blocks.
+  void take_stored(std::uint64_t byte_count) {
+    if (byte_count > budget_.stored)
       fail(std::string(what_) + ": data blocks add up to more than the file holds (do appended offsets overlap?)");
-    budget_ -= byte_count;
+    budget_.stored -= byte_count;
+  }
+
+  void check_value_size(std::uint64_t byte_count) const {
     if (byte_count % scalar_size(array_->type) != 0)
       fail(std::string(what_) + ": data block size " + std::to_string(byte_count) +
            " is not a multiple of the value size");
+  }
+
+  /// Length of a compression header whose first three integers are at `prefix`, with
+  /// `available` bytes after those three.
+  std::uint64_t compression_header_length(const unsigned char* prefix, std::uint64_t available) const {
+    const std::uint64_t count = header_value(prefix);
+    if (count > available / file_.header_size)
+      fail(std::string(what_) + ": compression header for " + std::to_string(count) +
+           " blocks runs past the end (truncated?)");
+    return (3 + count) * file_.header_size;
+  }
+
+  /// Reads a whole compression header and checks its sizes against the `available`
+  /// bytes after it and against the budget.
+  CompressedBlocks read_compression_header(const unsigned char* header, std::uint64_t available) {
+    const std::size_t h = file_.header_size;
+    CompressedBlocks blocks;
+    blocks.count = header_value(header);
+    blocks.size = header_value(header + h);
+    blocks.last_size = header_value(header + 2 * h);
+    blocks.compressed.resize(static_cast<std::size_t>(blocks.count));
+    for (std::size_t b = 0; b < blocks.compressed.size(); ++b) {
+      blocks.compressed[b] = header_value(header + (3 + b) * h);
+      if (blocks.compressed[b] > available - blocks.compressed_total)
+        fail(std::string(what_) + ": compressed block " + std::to_string(b) + " of " + std::to_string(blocks.count) +
+             " runs past the end (truncated?)");
+      blocks.compressed_total += blocks.compressed[b];
+    }
+    take_stored(blocks.compressed_total);
+    if (blocks.count == 0) return blocks;
+    if (blocks.last_size > blocks.size)
+      fail(std::string(what_) + ": compression header gives a last block of " + std::to_string(blocks.last_size) +
+           " bytes, larger than the block size " + std::to_string(blocks.size));
+    // Every block but the last inflates to the block size; checked before anything is allocated.
+    const std::uint64_t last = blocks.inflated_size(blocks.count - 1);
+    const bool plausible = last <= budget_.inflated &&
+                           (blocks.count == 1 || (budget_.inflated - last) / (blocks.count - 1) >= blocks.size);
+    if (!plausible)
+      fail(std::string(what_) + ": decompressed size implausible (" + std::to_string(blocks.count) + " blocks of " +
+           std::to_string(blocks.size) + " bytes for a file of " + std::to_string(source_.data().size()) + " bytes)");
+    blocks.inflated_total = (blocks.count - 1) * blocks.size + last;
+    budget_.inflated -= blocks.inflated_total;
+    check_value_size(blocks.inflated_total);
+    return blocks;
+  }
+
+  /// Inflates the blocks whose zlib streams start at `data` into the array's values.
+  std::vector<Out> inflate(const CompressedBlocks& blocks, const unsigned char* data) const {
+    std::vector<unsigned char> bytes(static_cast<std::size_t>(blocks.inflated_total));
+    std::size_t in = 0, out = 0;
+    for (std::uint64_t b = 0; b < blocks.count; ++b) {
+      const std::uint64_t compressed = blocks.compressed[static_cast<std::size_t>(b)];
+      const std::uint64_t expected = blocks.inflated_size(b);
+      if constexpr (sizeof(uLong) < sizeof(std::uint64_t)) {
+        if (compressed > std::numeric_limits<uLong>::max() || expected > std::numeric_limits<uLong>::max())
+          fail(std::string(what_) + ": compressed block " + std::to_string(b) + " is too large for zlib here");
+      }
+      uLongf length = static_cast<uLongf>(expected);
+      const int status = uncompress(bytes.data() + out, &length, data + in, static_cast<uLong>(compressed));
+      if (status != Z_OK || length != expected)
+        fail(std::string(what_) + ": compressed block " + std::to_string(b) + " of " + std::to_string(blocks.count) +
+             " is corrupt (zlib: " + (status == Z_OK ? "wrong size" : zError(status)) + ")");
+      in += static_cast<std::size_t>(compressed);
+      out += static_cast<std::size_t>(expected);
+    }
+    return from_bytes(bytes.data(), bytes.size());
+  }
+
+  std::vector<Out> decode_raw_compressed(std::string_view block) {
+    const std::size_t h = file_.header_size;
+    if (block.size() < 3 * h) fail(std::string(what_) + ": compression header runs past the end (truncated?)");
+    const auto* bytes = reinterpret_cast<const unsigned char*>(block.data());
+    const std::uint64_t length = compression_header_length(bytes, block.size() - 3 * h);
+    const CompressedBlocks blocks = read_compression_header(bytes, block.size() - length);
+    return inflate(blocks, bytes + length);
+  }
+
+  // VTK encodes the header and the blocks as two base64 streams, each padded on its own;
+  // the group-wise reader takes that and a single stream alike.
+  std::vector<Out> decode_base64_compressed(std::size_t begin, std::size_t end) {
+    Base64Reader reader(source_.data().substr(begin, end - begin), 0);
+    std::vector<unsigned char> bytes;
+    const std::size_t h = file_.header_size;
+    // Bytes decoded beyond `used` plus what the remaining text can still hold.
+    const auto available = [&](std::uint64_t used) { return (reader.remaining() / 4) * 3 + (bytes.size() - used); };
+    if (!reader.read_until(bytes, 3 * h)) fail(std::string(what_) + ": bad or truncated base64 compression header");
+    const std::uint64_t length = compression_header_length(bytes.data(), available(3 * h));
+    if (!reader.read_until(bytes, static_cast<std::size_t>(length)))
+      fail(std::string(what_) + ": bad or truncated base64 compression header");
+    const CompressedBlocks blocks = read_compression_header(bytes.data(), available(length));
+    const std::size_t total = static_cast<std::size_t>(length + blocks.compressed_total);
+    bytes.reserve(total + 2);
+    if (!reader.read_until(bytes, total)) fail(std::string(what_) + ": bad or truncated base64 data");
+    return inflate(blocks, bytes.data() + length);
   }
 
   std::vector<Out> decode_raw_block(std::string_view block) {
@@ -420,8 +549,7 @@ class ArrayDecoder {
     if (!reader.read_until(bytes, h)) fail(std::string(what_) + ": bad or truncated base64 data block header");
     const std::uint64_t byte_count = header_value(bytes.data());
     // Four base64 characters carry three bytes: check before decoding the block.
-    const std::uint64_t available = (reader.remaining() / 4) * 3 + (bytes.size() - h);
-    check_block(byte_count, static_cast<std::size_t>(std::min<std::uint64_t>(available, SIZE_MAX)));
+    check_block(byte_count, (reader.remaining() / 4) * 3 + (bytes.size() - h));
     const std::size_t total = h + static_cast<std::size_t>(byte_count);
     bytes.reserve(total + 2);
     if (!reader.read_until(bytes, total)) fail(std::string(what_) + ": bad or truncated base64 data");
@@ -453,7 +581,7 @@ class ArrayDecoder {
 
   const Source& source_;
   const FileInfo& file_;
-  std::uint64_t& budget_;
+  Budget& budget_;
   const ArrayInfo* array_ = nullptr;
   const char* what_ = "";
 };
@@ -515,11 +643,13 @@ FileInfo scan_structure(const Source& source) {
     file.header_size = 8;
   else if (header != "UInt32")
     source.fail(tag.begin, "unsupported header_type '" + clip(header) + "'");
-  if (const auto compressor = tag.attribute("compressor"); compressor && !compressor->empty())
-    source.fail(
-        tag.begin,
-        "compressed VTU not supported (" + clip(*compressor) +
-            "); save it uncompressed (ParaView: Compressor Type None; Python: writer.SetCompressorTypeToNone())");
+  if (const auto compressor = tag.attribute("compressor"); compressor && !compressor->empty()) {
+    if (*compressor != "vtkZLibDataCompressor")
+      source.fail(tag.begin, "VTU compressor '" + clip(*compressor) +
+                                 "' is not supported; structmesh reads zlib-compressed or uncompressed files "
+                                 "(ParaView: Compressor Type ZLib or None; Python: writer.SetCompressorTypeToZLib())");
+    file.zlib = true;
+  }
 
   // Open elements below <VTKFile>; depth is bounded so hostile nesting costs nothing.
   std::vector<std::string_view> stack{"VTKFile"};
@@ -632,8 +762,8 @@ std::string unsupported_cell_message(std::int64_t type) {
   return message + " is not supported; structmesh reads triangles (5), quads (9), tetrahedra (10), hexahedra (12)";
 }
 
-void read_piece(const Source& source, const FileInfo& file, const PieceInfo& piece, std::uint64_t& budget,
-                MeshBundle& mesh, bool& any_labels) {
+void read_piece(const Source& source, const FileInfo& file, const PieceInfo& piece, Budget& budget, MeshBundle& mesh,
+                bool& any_labels) {
   const auto fail = [&](const std::string& message) { source.fail(piece.tag_pos, message); };
   if (!piece.points && piece.point_count > 0) fail("<Piece> has no <Points> array");
   if (piece.cell_count > 0 && (!piece.connectivity || !piece.offsets || !piece.types))
@@ -786,13 +916,20 @@ void check_arrays(const std::vector<DataArray>& arrays, std::size_t expected, co
 // An array holds doubles unless only its i32 values are filled.
 bool is_int_array(const DataArray& a) { return a.f64.empty() && !a.i32.empty(); }
 
-void declare_arrays(std::string& out, const std::vector<DataArray>& arrays, std::string_view indent, const char* tag,
-                    const char* element, std::uint64_t* offset) {
+std::vector<const DataArray*> pointers(const std::vector<DataArray>& arrays) {
+  std::vector<const DataArray*> result;
+  for (const DataArray& a : arrays) result.push_back(&a);
+  return result;
+}
+
+void declare_arrays(std::string& out, const std::vector<const DataArray*>& arrays, std::string_view indent,
+                    const char* tag, const char* element, std::uint64_t* offset) {
   out += indent;
   out += "<";
   out += tag;
   out += ">\n";
-  for (const DataArray& a : arrays) {
+  for (const DataArray* array : arrays) {
+    const DataArray& a = *array;
     out += indent;
     out += "  <";
     out += element;
@@ -819,6 +956,26 @@ void append_array_block(std::string& out, const DataArray& a) {
     for (const double v : a.f64) append_le(out, v);
 }
 
+/// The bundle's element labels in cell order (0 for kinds without labels), named "label"
+/// so that read_vtu() restores them; nothing when the bundle has no labels or the caller
+/// already supplies a "label" or "part" cell array.
+std::optional<DataArray> label_array(const MeshBundle& mesh, const std::vector<DataArray>& cell_data) {
+  if (mesh.triangle_labels.empty() && mesh.quad_labels.empty() && mesh.tet_labels.empty() && mesh.hex_labels.empty())
+    return std::nullopt;
+  for (const DataArray& a : cell_data)
+    if (a.name == "label" || a.name == "part") return std::nullopt;
+  DataArray labels{"label", {}, {}};
+  labels.i32.reserve(mesh.cell_count());
+  const auto append = [&labels](const std::vector<std::int32_t>& kind_labels, std::size_t count) {
+    for (std::size_t i = 0; i < count; ++i) labels.i32.push_back(detail::volume_io::label_at(kind_labels, i));
+  };
+  append(mesh.triangle_labels, mesh.triangles.size());
+  append(mesh.quad_labels, mesh.quads.size());
+  append(mesh.tet_labels, mesh.tets.size());
+  append(mesh.hex_labels, mesh.hexes.size());
+  return labels;
+}
+
 }  // namespace
 
 MeshBundle read_vtu(std::string_view data, const std::string& source_name) {
@@ -827,7 +984,8 @@ MeshBundle read_vtu(std::string_view data, const std::string& source_name) {
   MeshBundle mesh;
   mesh.source_name = source_name;
   bool any_labels = false;
-  std::uint64_t budget = data.size();
+  // zlib inflates at most about 1000:1, but real meshes compress less than 10:1.
+  Budget budget{data.size(), std::min<std::uint64_t>(64 * static_cast<std::uint64_t>(data.size()), 8ull << 30)};
   for (const PieceInfo& piece : file.pieces) read_piece(source, file, piece, budget, mesh, any_labels);
   if (!any_labels) {
     mesh.triangle_labels.clear();
@@ -843,6 +1001,10 @@ std::string write_vtu(const MeshBundle& mesh, const WriteOptions& options) {
   const std::size_t cells = mesh.cell_count();
   check_arrays(options.cell_data, cells, "cell data");
   check_arrays(options.point_data, mesh.points.size(), "point data");
+  const std::optional<DataArray> labels = label_array(mesh, options.cell_data);
+  std::vector<const DataArray*> cell_data = pointers(options.cell_data);
+  if (labels) cell_data.push_back(&*labels);
+  const std::vector<const DataArray*> point_data = pointers(options.point_data);
   const std::size_t connectivity_size =
       3 * mesh.triangles.size() + 4 * mesh.quads.size() + 4 * mesh.tets.size() + 8 * mesh.hexes.size();
 
@@ -854,8 +1016,8 @@ std::string write_vtu(const MeshBundle& mesh, const WriteOptions& options) {
          std::to_string(cells) + "\">\n";
   // Appended blocks in this order: point data, cell data, points, connectivity, offsets, types.
   std::uint64_t offset = 0;
-  declare_arrays(out, options.point_data, "      ", "PointData", "DataArray", &offset);
-  declare_arrays(out, options.cell_data, "      ", "CellData", "DataArray", &offset);
+  declare_arrays(out, point_data, "      ", "PointData", "DataArray", &offset);
+  declare_arrays(out, cell_data, "      ", "CellData", "DataArray", &offset);
   out += "      <Points>\n        <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"appended\" offset=\"" +
          std::to_string(offset) + "\"/>\n      </Points>\n";
   offset += 8 + 24 * mesh.points.size();
@@ -872,8 +1034,8 @@ std::string write_vtu(const MeshBundle& mesh, const WriteOptions& options) {
   out += "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n  <AppendedData encoding=\"raw\">\n   _";
   out.reserve(out.size() + offset + 64);
 
-  for (const DataArray& a : options.point_data) append_array_block(out, a);
-  for (const DataArray& a : options.cell_data) append_array_block(out, a);
+  for (const DataArray* a : point_data) append_array_block(out, *a);
+  for (const DataArray* a : cell_data) append_array_block(out, *a);
   append_le<std::uint64_t>(out, 24 * mesh.points.size());
   for (const Vec3& p : mesh.points) {
     append_le(out, p.x());
@@ -923,8 +1085,8 @@ std::string write_pvtu(const std::vector<std::string>& piece_files, const WriteO
   out += "<?xml version=\"1.0\"?>\n";
   out += "<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n";
   out += "  <PUnstructuredGrid GhostLevel=\"0\">\n";
-  declare_arrays(out, options.point_data, "    ", "PPointData", "PDataArray", nullptr);
-  declare_arrays(out, options.cell_data, "    ", "PCellData", "PDataArray", nullptr);
+  declare_arrays(out, pointers(options.point_data), "    ", "PPointData", "PDataArray", nullptr);
+  declare_arrays(out, pointers(options.cell_data), "    ", "PCellData", "PDataArray", nullptr);
   out += "    <PPoints>\n      <PDataArray type=\"Float64\" NumberOfComponents=\"3\"/>\n    </PPoints>\n";
   for (const std::string& file : piece_files) out += "    <Piece Source=\"" + xml_escape(file) + "\"/>\n";
   out += "  </PUnstructuredGrid>\n</VTKFile>\n";

@@ -89,7 +89,8 @@ EdgeAdjacency edges_from_table(std::span<const std::array<Index, N>> elements,
     }
     adjacency.edge_elements.items.push_back(entries[k].element);
   }
-  if (!entries.empty()) adjacency.edge_elements.offsets.push_back(static_cast<Index>(adjacency.edge_elements.items.size()));
+  if (!entries.empty())
+    adjacency.edge_elements.offsets.push_back(static_cast<Index>(adjacency.edge_elements.items.size()));
   return adjacency;
 }
 

@@ -15,10 +15,14 @@ namespace {
 
 std::string human_count(double value) {
   char buffer[32];
-  if (value >= 1e9) std::snprintf(buffer, sizeof buffer, "%.1fG", value / 1e9);
-  else if (value >= 1e6) std::snprintf(buffer, sizeof buffer, "%.1fM", value / 1e6);
-  else if (value >= 1e3) std::snprintf(buffer, sizeof buffer, "%.1fk", value / 1e3);
-  else std::snprintf(buffer, sizeof buffer, "%.0f", value);
+  if (value >= 1e9)
+    std::snprintf(buffer, sizeof buffer, "%.1fG", value / 1e9);
+  else if (value >= 1e6)
+    std::snprintf(buffer, sizeof buffer, "%.1fM", value / 1e6);
+  else if (value >= 1e3)
+    std::snprintf(buffer, sizeof buffer, "%.1fk", value / 1e3);
+  else
+    std::snprintf(buffer, sizeof buffer, "%.0f", value);
   return buffer;
 }
 

@@ -2,6 +2,7 @@
 // deviation D_g = d_H / l_diag of §5.3 (Table 5.2). The only CGAL user of the module:
 // CGAL's AABB tree gives exact closest points on the other surface.
 #include "structmesh/error.hpp"
+#include "structmesh/progress.hpp"
 #include "structmesh/quality.hpp"
 
 #include <Eigen/Geometry>
@@ -89,7 +90,7 @@ struct Directed {
 };
 
 // sup over the samples of `from` of the distance to the surface in `tree`.
-Directed directed_distance(const TriMesh& from, const Tree& tree, double spacing) {
+Directed directed_distance(const TriMesh& from, const Tree& tree, double spacing, Progress& progress) {
   return tbb::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, from.triangles.size(), 64), Directed{},
       [&](const tbb::blocked_range<std::size_t>& range, Directed result) {
@@ -107,6 +108,7 @@ Directed directed_distance(const TriMesh& from, const Tree& tree, double spacing
             result.samples += 1;
           });
         }
+        progress.advance(range.size());
         return result;
       },
       // max and a sum of integers are exact, so the split does not change the result.
@@ -158,8 +160,10 @@ HausdorffResult hausdorff_distance(const TriMesh& reference, const TriMesh& othe
   other_tree.build();
   other_tree.accelerate_distance_queries();
 
-  const Directed forward = directed_distance(reference, other_tree, spacing);
-  const Directed backward = directed_distance(other, reference_tree, spacing);
+  Progress progress("Hausdorff distance", reference.triangles.size() + other.triangles.size());
+  const Directed forward = directed_distance(reference, other_tree, spacing, progress);
+  const Directed backward = directed_distance(other, reference_tree, spacing, progress);
+  progress.finish();
   HausdorffResult result;
   result.distance = std::sqrt(std::max(forward.squared, backward.squared));
   result.relative = result.distance / diagonal;

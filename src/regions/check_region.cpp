@@ -6,7 +6,7 @@
 // within a ring or between any two rings, including a ring folding back on
 // itself), "hole-outside" (a hole not inside its outer ring), "nested-hole" (a
 // hole inside another hole of the same polygon) and "polygons-overlap" (one
-// polygon inside another's interior; counted in no RegionReport field).
+// polygon inside another's interior; counted in RegionReport::overlapping_polygons).
 //
 // All geometric decisions use exact orientation predicates, so collinear runs and
 // touching rings are judged exactly. Candidate segment pairs come from a recursive
@@ -387,9 +387,10 @@ RegionReport check_region(const std::vector<Polygon2>& polygons, const CheckOpti
       if (q == info.polygon || first_ring_of[q] == first_ring_of[q + 1] || !inside(first_ring_of[q])) continue;
       bool in_hole = false;
       for (std::uint32_t h = first_ring_of[q] + 1; h < first_ring_of[q + 1] && !in_hole; ++h) in_hole = inside(h);
-      if (!in_hole)
-        problems.add("polygons-overlap",
-                     "polygon " + std::to_string(info.polygon) + " lies inside polygon " + std::to_string(q), 0);
+      if (in_hole) continue;
+      ++report.overlapping_polygons;
+      problems.add("polygons-overlap",
+                   "polygon " + std::to_string(info.polygon) + " lies inside polygon " + std::to_string(q), 0);
     }
   }
 

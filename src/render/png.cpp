@@ -75,11 +75,12 @@ void fill_rings(Image& image, const Polygon2& polygon, const std::array<std::uin
 
 void draw_line(Image& image, const Vec2& a, const Vec2& b, const std::array<std::uint8_t, 3>& color) {
   const Vec2 pa = image.to_pixel(a), pb = image.to_pixel(b);
+  // Lines reaching far outside the picture are skipped rather than walked pixel by
+  // pixel (and before the conversion to int, which would overflow).
+  const double limit = 4.0 * (image.width + image.height);
+  if (!(pa.cwiseAbs().maxCoeff() <= limit && pb.cwiseAbs().maxCoeff() <= limit)) return;
   int x0 = static_cast<int>(std::floor(pa.x())), y0 = static_cast<int>(std::floor(pa.y()));
   const int x1 = static_cast<int>(std::floor(pb.x())), y1 = static_cast<int>(std::floor(pb.y()));
-  // Lines far outside the picture are skipped rather than walked pixel by pixel.
-  const int limit = 4 * (image.width + image.height);
-  if (std::abs(x0) > limit || std::abs(y0) > limit || std::abs(x1) > limit || std::abs(y1) > limit) return;
   const int dx = std::abs(x1 - x0), dy = -std::abs(y1 - y0);
   const int sx = x0 < x1 ? 1 : -1, sy = y0 < y1 ? 1 : -1;
   int error = dx + dy;

@@ -1,7 +1,7 @@
 // Volume and mixed mesh readers and writers (MEDIT .mesh, Gmsh .msh, VTK .vtu):
-// exact round trips of a mixed mesh, files produced by the gmsh CLI (an independent
-// producer; also the check of the node-order conventions), every prefix of a valid
-// file (truncation never crashes), and one test per malformed-input rule.
+// exact round trips of a mixed mesh, files produced by the gmsh CLI and by VTK (independent
+// producers; also the check of the node-order conventions and of VTK's compressed layout),
+// every prefix of a valid file (truncation never crashes), and one test per malformed-input rule.
 #include "structmesh/error.hpp"
 #include "structmesh/io.hpp"
 #include "structmesh/mesh.hpp"
@@ -132,6 +132,12 @@ TEST(VolumeIoRoundTrip, MshKeepsEverything) {
   EXPECT_EQ(back.lines.tet_lines.size(), mesh.tets.size());
 }
 
+std::size_t count_of(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t pos = text.find(what); pos != std::string::npos; pos = text.find(what, pos + 1)) ++n;
+  return n;
+}
+
 TEST(VolumeIoRoundTrip, VtuKeepsEverythingAndPartBecomesLabels) {
   MeshBundle mesh = mixed_mesh();
   WriteOptions options;
@@ -146,10 +152,52 @@ TEST(VolumeIoRoundTrip, VtuKeepsEverythingAndPartBecomesLabels) {
   expect_same_mesh(back, mesh);
   EXPECT_TRUE(back.lines.hex_lines.empty());
 
-  // Without a part/label array the labels stay empty.
-  const MeshBundle unlabeled = read_vtu(write_vtu(mesh), "m.vtu");
-  expect_same_mesh(unlabeled, mesh, false);
-  EXPECT_TRUE(unlabeled.hex_labels.empty());
+  // The "part" array carries the labels, so no "label" array is added beside it.
+  EXPECT_EQ(count_of(vtu, "Name=\"label\""), 0u);
+}
+
+TEST(VolumeIoRoundTrip, VtuWritesTheBundleLabels) {
+  const MeshBundle mesh = mixed_mesh();
+  const std::string vtu = write_vtu(mesh);
+  EXPECT_NE(vtu.find("<DataArray type=\"Int32\" Name=\"label\""), std::string::npos);
+  expect_same_mesh(read_vtu(vtu, "m.vtu"), mesh);
+
+  // Kinds without labels get 0.
+  MeshBundle tets_only = mesh;
+  tets_only.triangle_labels.clear();
+  tets_only.quad_labels.clear();
+  tets_only.hex_labels.clear();
+  const MeshBundle back = read_vtu(write_vtu(tets_only), "t.vtu");
+  expect_same_mesh(back, tets_only, false);
+  EXPECT_EQ(back.tet_labels, tets_only.tet_labels);
+  EXPECT_EQ(back.triangle_labels, std::vector<std::int32_t>(3, 0));
+  EXPECT_EQ(back.hex_labels, std::vector<std::int32_t>(2, 0));
+
+  // A bundle without labels gets no "label" array and reads back without labels.
+  MeshBundle unlabeled = mesh;
+  unlabeled.triangle_labels.clear();
+  unlabeled.tet_labels.clear();
+  unlabeled.quad_labels.clear();
+  unlabeled.hex_labels.clear();
+  const std::string plain = write_vtu(unlabeled);
+  EXPECT_EQ(count_of(plain, "Name=\"label\""), 0u);
+  expect_same_mesh(read_vtu(plain, "u.vtu"), unlabeled);
+
+  // A caller's own "label" array wins, even a floating-point one (which is not read as labels).
+  WriteOptions own;
+  own.cell_data.push_back({"label", std::vector<double>(mesh.cell_count(), 2.5), {}});
+  const std::string theirs = write_vtu(mesh, own);
+  EXPECT_EQ(count_of(theirs, "Name=\"label\""), 1u);
+  EXPECT_NE(theirs.find("<DataArray type=\"Float64\" Name=\"label\""), std::string::npos);
+  EXPECT_TRUE(read_vtu(theirs, "f.vtu").hex_labels.empty());
+}
+
+TEST(VolumeIoRoundTrip, MeditReferencesSurviveConversionToVtu) {
+  const MeshBundle mesh = mixed_mesh();
+  const std::filesystem::path medit = temp_dir() / "refs.mesh", vtu = temp_dir() / "refs.vtu";
+  write_mesh(medit, mesh);
+  write_mesh(vtu, read_mesh(medit));
+  expect_same_mesh(read_mesh(vtu), mesh);
 }
 
 TEST(VolumeIoRoundTrip, ThroughFilesByExtension) {
@@ -163,7 +211,7 @@ TEST(VolumeIoRoundTrip, ThroughFilesByExtension) {
   }
   const std::filesystem::path vtu = temp_dir() / "mixed.vtu";
   write_mesh(vtu, mesh);
-  expect_same_mesh(read_mesh(vtu), mesh, false);
+  expect_same_mesh(read_mesh(vtu), mesh);
 }
 
 TEST(VolumeIoRoundTrip, EmptyAndPointOnlyBundles) {
@@ -308,6 +356,160 @@ TEST(VolumeIoGmsh, TetsFromGmshArePositiveInEveryFormat) {
     }
     EXPECT_NEAR(volume, 1.0, 1e-9) << format;
     EXPECT_FALSE(mesh.triangles.empty()) << format;
+  }
+}
+
+// --- files written by VTK with its zlib compressor (ParaView's and VTK's default) ---
+
+void run_python(const std::string& script, const std::filesystem::path& py) {
+  ASSERT_EQ(std::system("/usr/bin/python3 -c 'import vtk' > /dev/null 2>&1"), 0)
+      << "/usr/bin/python3 with the vtk module (Debian: python3-vtk9) is required";
+  std::ofstream(py) << script;
+  const std::string command = "/usr/bin/python3 '" + py.string() + "' > '" + py.string() + ".log' 2>&1";
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+}
+
+struct VtkMode {
+  const char* name;
+  const char* setup;  // Python statements configuring the writer `w`
+};
+
+// ascii is never compressed; the others are, header and blocks alike. A 64-byte block
+// size splits every array of the mixed mesh but the types into several blocks.
+constexpr VtkMode kVtkModes[] = {
+    {"ascii", "w.SetDataModeToAscii()"},
+    {"binary32", "w.SetDataModeToBinary(); w.SetHeaderTypeToUInt32()"},
+    {"binary64", "w.SetDataModeToBinary(); w.SetHeaderTypeToUInt64()"},
+    {"raw32", "w.SetDataModeToAppended(); w.EncodeAppendedDataOff(); w.SetHeaderTypeToUInt32()"},
+    {"raw64", "w.SetDataModeToAppended(); w.EncodeAppendedDataOff(); w.SetHeaderTypeToUInt64()"},
+    {"base64_32", "w.SetDataModeToAppended(); w.EncodeAppendedDataOn(); w.SetHeaderTypeToUInt32()"},
+    {"base64_64", "w.SetDataModeToAppended(); w.EncodeAppendedDataOn(); w.SetHeaderTypeToUInt64()"},
+    {"binary32_blocks", "w.SetDataModeToBinary(); w.SetHeaderTypeToUInt32(); w.SetBlockSize(64)"},
+    {"binary64_blocks", "w.SetDataModeToBinary(); w.SetHeaderTypeToUInt64(); w.SetBlockSize(64)"},
+    {"raw32_blocks",
+     "w.SetDataModeToAppended(); w.EncodeAppendedDataOff(); w.SetHeaderTypeToUInt32(); w.SetBlockSize(64)"},
+    {"raw64_blocks",
+     "w.SetDataModeToAppended(); w.EncodeAppendedDataOff(); w.SetHeaderTypeToUInt64(); w.SetBlockSize(64)"},
+    {"base64_32_blocks",
+     "w.SetDataModeToAppended(); w.EncodeAppendedDataOn(); w.SetHeaderTypeToUInt32(); w.SetBlockSize(64)"},
+    {"base64_64_blocks",
+     "w.SetDataModeToAppended(); w.EncodeAppendedDataOn(); w.SetHeaderTypeToUInt64(); w.SetBlockSize(64)"},
+    {"raw64_big_endian",
+     "w.SetDataModeToAppended(); w.EncodeAppendedDataOff(); w.SetHeaderTypeToUInt64(); w.SetBlockSize(64); "
+     "w.SetByteOrderToBigEndian()"},
+};
+
+// VTK reads our mixed mesh (with its "label" array) and writes it back in every mode;
+// returns the path of each file, named <mode>.vtu.
+std::filesystem::path write_with_vtk(const std::string& name) {
+  const std::filesystem::path dir = temp_dir() / name;
+  std::filesystem::create_directories(dir);
+  write_mesh(dir / "input.vtu", mixed_mesh());
+  std::string script =
+      "import vtk\n"
+      "r = vtk.vtkXMLUnstructuredGridReader()\n"
+      "r.SetFileName('" +
+      (dir / "input.vtu").string() +
+      "')\n"
+      "r.Update()\n"
+      "def write(mode, setup):\n"
+      "    w = vtk.vtkXMLUnstructuredGridWriter()\n"
+      "    w.SetInputConnection(r.GetOutputPort())\n"
+      "    w.SetCompressorTypeToZLib()\n"
+      "    exec(setup)\n"
+      "    w.SetFileName('" +
+      dir.string() +
+      "/' + mode + '.vtu')\n"
+      "    assert w.Write() == 1\n";
+  for (const VtkMode& mode : kVtkModes) script += "write('" + std::string(mode.name) + "', '" + mode.setup + "')\n";
+  run_python(script, dir / "write.py");
+  return dir;
+}
+
+// Position of the Points array's block in a file with raw appended data.
+std::size_t points_block(const std::string& vtu) {
+  const std::size_t data = vtu.find('_', vtu.find("<AppendedData")) + 1;
+  const std::size_t offset = vtu.find("offset=\"", vtu.find("Name=\"Points\"")) + 8;
+  return data + std::stoull(vtu.substr(offset, 20));
+}
+
+TEST(VtuCompressed, EveryModeWrittenByVtkReadsBackExactly) {
+  const std::filesystem::path dir = write_with_vtk("vtk_zlib");
+  const MeshBundle mesh = mixed_mesh();
+  for (const VtkMode& mode : kVtkModes) {
+    const std::filesystem::path path = dir / (std::string(mode.name) + ".vtu");
+    const std::string data = read_file(path);
+    EXPECT_NE(data.find("compressor=\"vtkZLibDataCompressor\""), std::string::npos) << mode.name;
+    SCOPED_TRACE(mode.name);
+    expect_same_mesh(read_mesh(path), mesh);
+  }
+  // The block-size setting took effect: the points' header announces several blocks.
+  const std::string raw = read_file(dir / "raw64_blocks.vtu");
+  std::uint64_t blocks = 0;
+  std::memcpy(&blocks, raw.data() + points_block(raw), sizeof blocks);
+  EXPECT_EQ(blocks, 5u);  // 13 x 24 bytes in blocks of 64
+}
+
+TEST(VtuCompressed, EveryPrefixReadsOrThrowsInputError) {
+  const std::filesystem::path dir = write_with_vtk("vtk_zlib_prefix");
+  for (const char* mode : {"binary32_blocks", "raw64_blocks", "base64_64_blocks"})
+    expect_prefixes_safe(read_vtu, read_file(dir / (std::string(mode) + ".vtu")));
+}
+
+TEST(VtuCompressed, Errors) {
+  const std::filesystem::path dir = write_with_vtk("vtk_zlib_errors");
+  // Raw appended, UInt64 header: the points' header is [blocks, block size, last block
+  // size, compressed sizes...], then the zlib streams.
+  const std::string vtu = read_file(dir / "raw64_blocks.vtu");
+  const std::size_t header = points_block(vtu);
+  std::uint64_t blocks = 0;
+  std::memcpy(&blocks, vtu.data() + header, sizeof blocks);
+  ASSERT_GT(blocks, 1u);
+  ASSERT_LT(blocks, 100u);
+  const std::size_t stream = header + 8 * (3 + blocks);
+  const auto with_value = [&](std::size_t field, std::uint64_t value) {
+    std::string changed = vtu;
+    std::memcpy(changed.data() + header + 8 * field, &value, sizeof value);
+    return changed;
+  };
+
+  // Cut inside the compressed blocks.
+  EXPECT_NE(error_of(read_vtu, vtu.substr(0, stream + 10)).find("runs past the end (truncated?)"), std::string::npos);
+  EXPECT_NE(error_of(read_vtu, vtu.substr(0, header + 20)).find("compression header runs past the end"),
+            std::string::npos);
+  // A corrupted zlib stream: its header byte, then a byte inside the deflate data.
+  std::string corrupt = vtu;
+  corrupt[stream] = '\x00';
+  EXPECT_NE(error_of(read_vtu, corrupt).find("compressed block 0 of " + std::to_string(blocks) + " is corrupt (zlib:"),
+            std::string::npos);
+  corrupt = vtu;
+  corrupt[stream + 5] = static_cast<char>(corrupt[stream + 5] ^ 0x5a);
+  EXPECT_NE(error_of(read_vtu, corrupt).find("is corrupt (zlib:"), std::string::npos);
+  // A header whose sizes do not match the streams.
+  EXPECT_NE(error_of(read_vtu, with_value(2, 48)).find("compressed block 4 of 5 is corrupt"), std::string::npos);
+  // Implausible sizes: a block count, a compressed size, an uncompressed size.
+  EXPECT_NE(error_of(read_vtu, with_value(0, 1ull << 40)).find("compression header for 1099511627776 blocks"),
+            std::string::npos);
+  EXPECT_NE(error_of(read_vtu, with_value(3, 1ull << 40)).find("compressed block 0 of"), std::string::npos);
+  EXPECT_NE(error_of(read_vtu, with_value(1, 1ull << 40)).find("decompressed size implausible"), std::string::npos);
+  EXPECT_NE(error_of(read_vtu, with_value(1, 1u << 20)).find("decompressed size implausible"), std::string::npos);
+  EXPECT_NE(error_of(read_vtu, with_value(2, 1u << 20)).find("larger than the block size"), std::string::npos);
+  EXPECT_NE(error_of(read_vtu, with_value(2, 52)).find("not a multiple of the value size"), std::string::npos);
+  EXPECT_NE(error_of(read_vtu, with_value(1, 32)).find("larger than the block size"), std::string::npos);
+  // Inline base64: the same checks behind the encoding.
+  const std::string binary = read_file(dir / "binary64_blocks.vtu");
+  const std::size_t inline_data = binary.find("format=\"binary\"");
+  ASSERT_NE(inline_data, std::string::npos);
+  const std::size_t text = binary.find('>', inline_data) + 1;
+  const std::size_t text_end = binary.find('<', text);
+  std::string cut = binary;
+  cut.erase(text + (text_end - text) / 2, (text_end - text) / 2);
+  EXPECT_NE(error_of(read_vtu, cut).find("truncated"), std::string::npos);
+  // Other compressors are named.
+  for (const std::string other : {"vtkLZ4DataCompressor", "vtkLZMADataCompressor"}) {
+    std::string changed = vtu;
+    changed.replace(changed.find("vtkZLibDataCompressor"), 21, other);
+    EXPECT_NE(error_of(read_vtu, changed).find("VTU compressor '" + other + "' is not supported"), std::string::npos);
   }
 }
 
@@ -524,8 +726,12 @@ TEST(VtuReader, Errors) {
   const std::string pts = "0 0 0 1 0 0 0 1 0 0 0 1";
   EXPECT_NE(error_of(read_vtu, "").find("empty file"), std::string::npos);
   EXPECT_NE(error_of(read_vtu, "<?xml version=\"1.0\"?><html></html>").find("not a VTK XML file"), std::string::npos);
-  EXPECT_NE(error_of(read_vtu, ascii_vtu(pts, "0 1 2 3", "4", "10", 4, 1, " compressor=\"vtkZLibDataCompressor\""))
-                .find("compressed VTU not supported"),
+  // ascii arrays are never compressed, whatever the compressor.
+  EXPECT_EQ(read_vtu(ascii_vtu(pts, "0 1 2 3", "4", "10", 4, 1, " compressor=\"vtkZLibDataCompressor\""), "z.vtu")
+                .tets.size(),
+            1u);
+  EXPECT_NE(error_of(read_vtu, ascii_vtu(pts, "0 1 2 3", "4", "10", 4, 1, " compressor=\"vtkBZip2\""))
+                .find("VTU compressor 'vtkBZip2' is not supported"),
             std::string::npos);
   // A point index out of range: named with the cell, the index, and the connectivity array's line.
   EXPECT_NE(error_of(read_vtu, ascii_vtu(pts, "0 1 2 9", "4", "10", 4, 1))

@@ -86,10 +86,17 @@ TEST(GeoJson, OrientationIsNormalisedKeepingTheFirstPoint) {
   EXPECT_NE(out.find("[[0,0],[1,0],[1,1],[0,1],[0,0]]"), std::string::npos) << out;
 }
 
-TEST(GeoJson, UnclosedRingsAreClosedImplicitly) {
-  const auto polygons = read_geojson(R"({"type":"Polygon","coordinates":[[[0,0],[1,0],[1,1]]]})", "open");
-  ASSERT_EQ(polygons.size(), 1u);
-  EXPECT_EQ(polygons[0].ring(0).size(), 3u);
+TEST(GeoJson, UnclosedRingsAreRejectedWithTheirLocation) {
+  try {
+    read_geojson(R"({"type":"Polygon","coordinates":[[[0,0],[1,0],[1,1],[0,0]],[[0.2,0.1],[0.8,0.1],[0.8,0.5]]]})",
+                 "open.geojson");
+    FAIL() << "an unclosed ring was accepted";
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("open.geojson"), std::string::npos) << message;
+    EXPECT_NE(message.find("ring 1"), std::string::npos) << message;
+    EXPECT_NE(message.find("not closed"), std::string::npos) << message;
+  }
 }
 
 TEST(GeoJson, AllPolygonalContainers) {
@@ -104,9 +111,10 @@ TEST(GeoJson, AllPolygonalContainers) {
   const auto polygons = read_geojson(text, "all.geojson");
   ASSERT_EQ(polygons.size(), 5u);
   for (std::size_t i = 0; i < 5; ++i) EXPECT_EQ(polygons[i].ring(0)[0], Vec2(2.0 * i, 0));
-  EXPECT_EQ(read_geojson(R"({"type":"Feature","geometry":{"type":"Polygon","coordinates":[[[0,0],[1,0],[0,1]]]}})", "f")
-                .size(),
-            1u);
+  EXPECT_EQ(
+      read_geojson(R"({"type":"Feature","geometry":{"type":"Polygon","coordinates":[[[0,0],[1,0],[0,1],[0,0]]]}})", "f")
+          .size(),
+      1u);
 }
 
 TEST(GeoJson, CoordinateKind) {
@@ -164,13 +172,13 @@ TEST(GeoJson, SyntaxErrorsNameLineAndByte) {
 
 TEST(GeoJson, StructureErrorsNameTheFeatureAndVertex) {
   const std::string wrong_type = geojson_error(R"({"type":"FeatureCollection","features":[
-      {"type":"Feature","geometry":{"type":"Polygon","coordinates":[[[0,0],[1,0],[1,1]]]}},
+      {"type":"Feature","geometry":{"type":"Polygon","coordinates":[[[0,0],[1,0],[1,1],[0,0]]]}},
       {"type":"Feature","geometry":{"type":"LineString","coordinates":[[0,0],[1,0]]}}]})");
   EXPECT_NE(wrong_type.find("feature 1"), std::string::npos) << wrong_type;
   EXPECT_NE(wrong_type.find("LineString"), std::string::npos) << wrong_type;
 
   const std::string not_number =
-      geojson_error(R"({"type":"Polygon","coordinates":[[[0,0],[1,0],[1,1]],[[0.1,0.1],[0.2,0.1],["x",0.2]]]})");
+      geojson_error(R"({"type":"Polygon","coordinates":[[[0,0],[1,0],[1,1],[0,0]],[[0.1,0.1],[0.2,0.1],["x",0.2]]]})");
   EXPECT_NE(not_number.find("ring 1, vertex 2"), std::string::npos) << not_number;
 
   const std::string one_coordinate = geojson_error(R"({"type":"Polygon","coordinates":[[[0,0],[1],[1,1]]]})");
@@ -180,7 +188,7 @@ TEST(GeoJson, StructureErrorsNameTheFeatureAndVertex) {
   EXPECT_NE(two_points.find("fewer than 3 distinct"), std::string::npos) << two_points;
 
   const std::string multi = geojson_error(R"({"type":"MultiPolygon","coordinates":[
-      [[[0,0],[1,0],[1,1]]], [[[0,0],[1,0],[1,1]]], [[[0,0],[1,0],[1,1]],[[0,0],[0,0]]]]})");
+      [[[0,0],[1,0],[1,1],[0,0]]], [[[0,0],[1,0],[1,1],[0,0]]], [[[0,0],[1,0],[1,1],[0,0]],[[0,0],[0,0]]]]})");
   EXPECT_NE(multi.find("polygon 2, ring 1"), std::string::npos) << multi;
 
   EXPECT_NE(geojson_error(R"({"type":"FeatureCollection","features":[]})").find("no polygons"), std::string::npos);
