@@ -105,6 +105,44 @@ int check_volume_file(const GlobalOptions& global, const MeshBundle& mesh, const
   return r.valid ? 0 : 2;
 }
 
+int check_planar_file(const GlobalOptions& global, const MeshBundle& mesh, const CheckOptions& options) {
+  const PlanarMeshReport r = check_planar_mesh(mesh, options);
+  say(global, mesh.source_name + ": planar mesh");
+  row(global, "vertices / edges", std::to_string(r.vertices) + " / " + std::to_string(r.edges));
+  row(global, "triangles / quads", std::to_string(r.triangles) + " / " + std::to_string(r.quads));
+  row(global, "area", std::to_string(r.area));
+  row(global, "components / holes", std::to_string(r.components) + " / " + std::to_string(r.holes));
+  row(global, "boundary edges", std::to_string(r.boundary_edges));
+  row(global, "inverted elements", std::to_string(r.inverted));
+  row(global, "min quad scaled Jacobian", std::to_string(r.min_quad_scaled_jacobian));
+  row(global, "degenerate elements", std::to_string(r.degenerate));
+  row(global, "non-manifold edges", std::to_string(r.non_manifold_edges));
+  row(global, "inconsistent edges", std::to_string(r.inconsistent_edges));
+  row(global, "unused vertices", std::to_string(r.unused_vertices));
+  row(global, "valid", yes_no(r.valid));
+  print_problems(global, mesh.source_name, r.problems);
+  write_json_report(global, {{"file", mesh.source_name},
+                             {"kind", "planar"},
+                             {"vertices", r.vertices},
+                             {"triangles", r.triangles},
+                             {"quads", r.quads},
+                             {"edges", r.edges},
+                             {"area", r.area},
+                             {"components", r.components},
+                             {"holes", r.holes},
+                             {"euler_characteristic", r.euler_characteristic},
+                             {"boundary_edges", r.boundary_edges},
+                             {"inverted", r.inverted},
+                             {"min_quad_scaled_jacobian", r.min_quad_scaled_jacobian},
+                             {"degenerate", r.degenerate},
+                             {"non_manifold_edges", r.non_manifold_edges},
+                             {"inconsistent_edges", r.inconsistent_edges},
+                             {"unused_vertices", r.unused_vertices},
+                             {"valid", r.valid},
+                             {"problems", problems_json(r.problems)}});
+  return r.valid ? 0 : 2;
+}
+
 int check_region_file(const GlobalOptions& global, const std::string& file, const CheckOptions& options) {
   const std::vector<Polygon2> polygons = read_region(file);
   const RegionReport r = check_region(polygons, options);
@@ -154,10 +192,10 @@ Action add_check_command(CLI::App& command, const GlobalOptions& global) {
   auto settings = std::make_shared<Settings>();
   command
       .add_option("FILE", settings->file,
-                  "Surface (.obj .off .ply .stl), volume (.mesh .msh .vtu) or region (.geojson .poly)")
+                  "Surface (.obj .off .ply .stl), volume or planar mesh (.mesh .msh .vtu), or region (.geojson .poly)")
       ->required();
   command.add_option("--as", settings->as, "What to check the file as")
-      ->check(CLI::IsMember({"auto", "surface", "volume", "region"}));
+      ->check(CLI::IsMember({"auto", "surface", "volume", "planar", "region"}));
   command.add_flag("--no-self-intersections", settings->skip_self_intersections,
                    "Skip the (costly) self-intersection test of surfaces");
   command.add_option("--max-problems", settings->max_problems, "Problems listed per kind (counts stay complete)");
@@ -170,7 +208,13 @@ Action add_check_command(CLI::App& command, const GlobalOptions& global) {
     if (as == "auto" && (format == FileFormat::GeoJson || format == FileFormat::Poly)) as = "region";
     if (as == "region") return check_region_file(global, settings->file, options);
     const MeshBundle mesh = read_mesh(settings->file);
-    if (as == "auto") as = (mesh.tets.empty() && mesh.hexes.empty()) ? "surface" : "volume";
+    if (as == "auto") {
+      // A mesh whose points all share one z is a 2D mesh, never a solid's boundary.
+      bool flat = !mesh.points.empty();
+      for (const Vec3& p : mesh.points) flat = flat && p.z() == mesh.points.front().z();
+      as = !mesh.tets.empty() || !mesh.hexes.empty() ? "volume" : flat ? "planar" : "surface";
+    }
+    if (as == "planar") return check_planar_file(global, mesh, options);
     return as == "surface" ? check_surface_file(global, mesh, options) : check_volume_file(global, mesh, options);
   };
 }

@@ -60,6 +60,28 @@ struct VolumeReport {
 };
 VolumeReport check_volume(const MeshBundle& mesh, const CheckOptions& options = {});
 
+/// A planar 2D mesh (triangles and/or quads, all z equal): what a quad mesher must
+/// deliver. Conforming means every edge is used by one element (boundary) or two
+/// elements traversing it in opposite directions (interior).
+struct PlanarMeshReport {
+  std::size_t vertices = 0, triangles = 0, quads = 0, edges = 0;
+  std::size_t boundary_edges = 0;       // used by one element
+  std::size_t non_manifold_edges = 0;   // used by more than two elements
+  std::size_t inconsistent_edges = 0;   // interior edges traversed in the same direction twice
+  std::size_t inverted = 0;             // quads with scaled Jacobian <= 0 (+z reference), triangles with area <= 0
+  std::size_t degenerate = 0;           // an element repeating a vertex
+  std::size_t unused_vertices = 0;      // used by no element (a warning: does not invalidate)
+  std::size_t components = 0;           // connected through shared edges
+  std::size_t holes = 0;                // components - Euler characteristic (each component a disk with holes)
+  long euler_characteristic = 0;        // V - E + F over used vertices
+  double area = 0;                      // sum of signed element areas
+  double min_quad_scaled_jacobian = 0;  // over non-degenerate quads (0 when there are none)
+  bool planar = false;                  // all z equal
+  bool valid = false;                   // planar, no inverted/degenerate element, no non-manifold or inconsistent edge
+  std::vector<Problem> problems;
+};
+PlanarMeshReport check_planar_mesh(const MeshBundle& mesh, const CheckOptions& options = {});
+
 struct RegionReport {
   std::size_t polygons = 0, rings = 0, holes = 0, vertices = 0;
   double area = 0;

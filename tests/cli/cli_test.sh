@@ -99,6 +99,28 @@ expect 2 "holds only triangles" -- "$sm" quality "$work/tet.obj"
 expect 1 "" -- "$sm" convert "$work/cube.mesh" -o "$work/no-such-dir/cube.vtu"
 [[ ! -e "$work/no-such-dir" ]] && passed=$((passed + 1)) || { echo "FAIL: partial output"; failed=$((failed + 1)); }
 
+# a planar quad mesh is checked as a 2D mesh: a flipped quad is inverted, and the line is named
+cat >"$work/quads.mesh" <<'MESH'
+MeshVersionFormatted 2
+Dimension 2
+Vertices
+6
+0 0 0
+1 0 0
+2 0 0
+0 1 0
+1 1 0
+2 1 0
+Quadrilaterals
+2
+1 2 5 4 0
+2 3 6 5 0
+End
+MESH
+expect 0 "planar mesh" -- "$sm" check "$work/quads.mesh"
+sed 's/^2 3 6 5 0$/5 6 3 2 0/' "$work/quads.mesh" >"$work/flipped.mesh"
+expect 2 "flipped\.mesh:14: inverted-element" -- "$sm" check "$work/flipped.mesh"
+
 # real data: valid, open and self-intersecting models are told apart
 if [[ -d "$data/surfaces" ]]; then
   expect 0 "genus +1" -- "$sm" check "$data/surfaces/rocker-arm.obj"
