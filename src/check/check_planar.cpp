@@ -26,14 +26,6 @@ Index find_root(std::vector<Index>& parent, Index x) {
 }
 
 template <std::size_t N>
-bool repeats_vertex(const std::array<Index, N>& element) {
-  for (std::size_t i = 0; i < N; ++i)
-    for (std::size_t j = i + 1; j < N; ++j)
-      if (element[i] == element[j]) return true;
-  return false;
-}
-
-template <std::size_t N>
 std::string describe(const char* kind, std::size_t index, const std::array<Index, N>& element) {
   std::string out = std::string(kind) + " " + std::to_string(index) + " (";
   for (std::size_t i = 0; i < N; ++i) out += (i ? " " : "") + std::to_string(element[i]);
@@ -48,6 +40,7 @@ PlanarMeshReport check_planar_mesh(const MeshBundle& mesh, const CheckOptions& o
   const std::size_t n = mesh.points.size();
   report.triangles = mesh.triangles.size();
   report.quads = mesh.quads.size();
+  if (detail::report_non_finite_points(mesh, log) > 0) return report;
   report.planar = true;
   for (const Vec3& p : mesh.points) report.planar = report.planar && p.z() == mesh.points.front().z();
   if (!report.planar) log.add("not-planar", "points do not all have the same z: not a planar mesh");
@@ -77,7 +70,7 @@ PlanarMeshReport check_planar_mesh(const MeshBundle& mesh, const CheckOptions& o
       }
     }
     for (Index v : element) used[v] = 1;
-    if (repeats_vertex(element)) {
+    if (detail::repeats_vertex(element)) {
       ++report.degenerate;
       log.add("degenerate-element", describe(kind, index, element) + " repeats a vertex", line, id);
       return;

@@ -33,6 +33,7 @@ namespace {
 
 using detail::line_of;
 using detail::ProblemLog;
+using detail::repeats_vertex;
 
 class UnionFind {
  public:
@@ -82,13 +83,6 @@ class Faces {
   std::size_t t_;
 };
 
-bool repeats_vertex(std::span<const Index> v) {
-  for (std::size_t i = 0; i < v.size(); ++i)
-    for (std::size_t j = i + 1; j < v.size(); ++j)
-      if (v[i] == v[j]) return true;
-  return false;
-}
-
 bool zero_area(const std::vector<Vec3>& p, std::span<const Index> v) {
   using detail::collinear;
   if (v.size() == 3) return collinear(p[v[0]], p[v[1]], p[v[2]]);
@@ -136,15 +130,7 @@ SurfaceReport check_surface(const MeshBundle& mesh, const CheckOptions& options)
   }
   if (out_of_range > 0) return report;
   // Likewise NaN or infinite coordinates, which the exact predicates cannot take.
-  std::size_t non_finite = 0;
-  for (std::size_t v = 0; v < point_count; ++v) {
-    if (mesh.points[v].allFinite()) continue;
-    ++non_finite;
-    if (log.wants("non-finite-point"))
-      log.add("non-finite-point", "vertex " + std::to_string(v) + " has a NaN or infinite coordinate",
-              line_of(mesh.lines.point_lines, v));
-  }
-  if (non_finite > 0) return report;
+  if (detail::report_non_finite_points(mesh, log) > 0) return report;
 
   // --- degenerate faces, used vertices ---
   std::vector<std::uint8_t> collapsed(face_count, 0);

@@ -19,18 +19,11 @@ namespace {
 
 using detail::line_of;
 using detail::ProblemLog;
+using detail::repeats_vertex;
 
 // A tet counts as inverted when its volume is below this fraction of the cube of
 // its longest edge: such a tet is flat within rounding even if the sign is positive.
 constexpr double kFlatTetTolerance = 1e-12;
-
-template <std::size_t N>
-bool repeats_vertex(const std::array<Index, N>& v) {
-  for (std::size_t i = 0; i < N; ++i)
-    for (std::size_t j = i + 1; j < N; ++j)
-      if (v[i] == v[j]) return true;
-  return false;
-}
 
 template <std::size_t N>
 bool in_range(const std::array<Index, N>& v, std::size_t point_count) {
@@ -76,6 +69,47 @@ void report_non_manifold_faces(const FaceAdjacency<N>& adjacency, const std::vec
   }
 }
 
+// What the per-cell pass over the tets and the one over the hexes share.
+struct CellPass {
+  const MeshBundle& mesh;
+  VolumeReport& report;
+  ProblemLog& log;
+  std::vector<std::uint8_t> used;  // per point
+  std::size_t out_of_range = 0;
+};
+
+// The checks every kind of cell gets: a cell naming a vertex beyond the points or
+// repeating a vertex is reported and skipped. Every other cell is added to `kept`
+// (its index to `kept_of`) for the face test, then given to the kind's own
+// geometric test, `geometry(v, name, line, element)`.
+template <std::size_t N, typename Geometry>
+void check_cells(const std::vector<std::array<Index, N>>& cells, const char* kind,
+                 const std::vector<std::uint32_t>& lines, std::size_t element_offset, CellPass& pass,
+                 std::vector<std::array<Index, N>>& kept, std::vector<Index>& kept_of, const Geometry& geometry) {
+  const std::size_t n = pass.mesh.points.size();
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    const auto& v = cells[c];
+    const std::uint32_t line = line_of(lines, c);
+    const std::int64_t element = std::int64_t(element_offset + c);
+    const std::string name = std::string(kind) + " " + std::to_string(c) + " (" + vertex_list(v) + ")";
+    if (!in_range(v, n)) {
+      ++pass.out_of_range;
+      pass.log.add("index-out-of-range", name + " refers to a vertex beyond the " + std::to_string(n) + " points", line,
+                   element);
+      continue;
+    }
+    for (Index u : v) pass.used[u] = 1;
+    if (repeats_vertex(v)) {
+      ++pass.report.degenerate;
+      pass.log.add("degenerate-cell", name + " repeats a vertex", line, element);
+      continue;
+    }
+    kept.push_back(v);
+    kept_of.push_back(Index(c));
+    geometry(v, name, line, element);
+  }
+}
+
 }  // namespace
 
 VolumeReport check_volume(const MeshBundle& mesh, const CheckOptions& options) {
@@ -92,20 +126,11 @@ VolumeReport check_volume(const MeshBundle& mesh, const CheckOptions& options) {
     return report;
   }
   // NaN or infinite coordinates make every measure below meaningless: report and stop.
-  std::size_t non_finite = 0;
-  for (std::size_t v = 0; v < n; ++v) {
-    if (mesh.points[v].allFinite()) continue;
-    ++non_finite;
-    if (log.wants("non-finite-point"))
-      log.add("non-finite-point", "vertex " + std::to_string(v) + " has a NaN or infinite coordinate",
-              line_of(mesh.lines.point_lines, v));
-  }
-  if (non_finite > 0) return report;
+  if (detail::report_non_finite_points(mesh, log) > 0) return report;
   const std::size_t tet_offset = report.triangles + report.quads;
   const std::size_t hex_offset = tet_offset + report.tets;
 
-  std::size_t out_of_range = 0;
-  std::vector<std::uint8_t> used(n, 0);
+  CellPass pass{mesh, report, log, std::vector<std::uint8_t>(n, 0)};
   // Connectivity of the non-degenerate cells for the face test (build_faces reads
   // only the cells, so the points are not copied).
   TetMesh tets;
@@ -114,25 +139,9 @@ VolumeReport check_volume(const MeshBundle& mesh, const CheckOptions& options) {
   double min_volume = std::numeric_limits<double>::infinity();
   double min_jacobian = std::numeric_limits<double>::infinity();
 
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
-    const auto& v = mesh.tets[t];
-    const std::uint32_t line = line_of(mesh.lines.tet_lines, t);
-    const std::int64_t element = std::int64_t(tet_offset + t);
-    const std::string name = "tet " + std::to_string(t) + " (" + vertex_list(v) + ")";
-    if (!in_range(v, n)) {
-      ++out_of_range;
-      log.add("index-out-of-range", name + " refers to a vertex beyond the " + std::to_string(n) + " points", line,
-              element);
-      continue;
-    }
-    for (Index u : v) used[u] = 1;
-    if (repeats_vertex(v)) {
-      ++report.degenerate;
-      log.add("degenerate-cell", name + " repeats a vertex", line, element);
-      continue;
-    }
-    tets.tets.push_back(v);
-    tet_of.push_back(Index(t));
+  // Tets: the signed volume, measured against the longest edge.
+  const auto check_tet = [&](const std::array<Index, 4>& v, const std::string& name, std::uint32_t line,
+                             std::int64_t element) {
     const std::array<Vec3, 4> p{mesh.points[v[0]], mesh.points[v[1]], mesh.points[v[2]], mesh.points[v[3]]};
     const double volume = tet_signed_volume(p[0], p[1], p[2], p[3]);
     min_volume = std::min(min_volume, volume);
@@ -144,41 +153,26 @@ VolumeReport check_volume(const MeshBundle& mesh, const CheckOptions& options) {
               name + " has volume " + number(volume) + (volume > 0 ? " (flat within rounding)" : " (inverted)"), line,
               element);
     }
-  }
-
-  for (std::size_t h = 0; h < mesh.hexes.size(); ++h) {
-    const auto& v = mesh.hexes[h];
-    const std::uint32_t line = line_of(mesh.lines.hex_lines, h);
-    const std::int64_t element = std::int64_t(hex_offset + h);
-    const std::string name = "hex " + std::to_string(h) + " (" + vertex_list(v) + ")";
-    if (!in_range(v, n)) {
-      ++out_of_range;
-      log.add("index-out-of-range", name + " refers to a vertex beyond the " + std::to_string(n) + " points", line,
-              element);
-      continue;
-    }
-    for (Index u : v) used[u] = 1;
-    if (repeats_vertex(v)) {
-      ++report.degenerate;
-      log.add("degenerate-cell", name + " repeats a vertex", line, element);
-      continue;
-    }
-    hexes.hexes.push_back(v);
-    hex_of.push_back(Index(h));
+  };
+  // Hexes: the scaled Jacobian.
+  const auto check_hex = [&](const std::array<Index, 8>& v, const std::string& name, std::uint32_t line,
+                             std::int64_t element) {
     std::array<Vec3, 8> p;
     for (std::size_t i = 0; i < 8; ++i) p[i] = mesh.points[v[i]];
     const std::optional<double> jacobian = hex_scaled_jacobian(p);
     if (!jacobian) {
       ++report.degenerate;
       log.add("degenerate-cell", name + " has a zero-length edge or principal axis", line, element);
-      continue;
+      return;
     }
     min_jacobian = std::min(min_jacobian, *jacobian);
     if (*jacobian <= 0) {
       ++report.inverted;
       log.add("inverted-cell", name + " has scaled Jacobian " + number(*jacobian) + " (inverted)", line, element);
     }
-  }
+  };
+  check_cells(mesh.tets, "tet", mesh.lines.tet_lines, tet_offset, pass, tets.tets, tet_of, check_tet);
+  check_cells(mesh.hexes, "hex", mesh.lines.hex_lines, hex_offset, pass, hexes.hexes, hex_of, check_hex);
   report.min_tet_volume = tets.tets.empty() ? 0 : min_volume;
   report.min_hex_scaled_jacobian = std::isfinite(min_jacobian) ? min_jacobian : 0;
 
@@ -186,14 +180,15 @@ VolumeReport check_volume(const MeshBundle& mesh, const CheckOptions& options) {
   report_non_manifold_faces(build_faces(hexes), hex_of, "hexes", mesh.lines.hex_lines, hex_offset, report, log);
 
   for (std::size_t v = 0; v < n; ++v) {
-    if (used[v]) continue;
+    if (pass.used[v]) continue;
     ++report.unused_vertices;
     if (log.wants("unused-vertex"))
       log.add("unused-vertex", "vertex " + std::to_string(v) + " is used by no tet or hex",
               line_of(mesh.lines.point_lines, v));
   }
 
-  report.valid = out_of_range == 0 && report.degenerate == 0 && report.inverted == 0 && report.non_manifold_faces == 0;
+  report.valid =
+      pass.out_of_range == 0 && report.degenerate == 0 && report.inverted == 0 && report.non_manifold_faces == 0;
   return report;
 }
 

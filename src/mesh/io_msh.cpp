@@ -12,6 +12,7 @@
 //
 // Gmsh node tags may be sparse and in any order, so they are mapped to dense indices
 // (a lookup table when the tags are nearly dense, else a sorted table).
+#include "mesh/binary_scalar.hpp"
 #include "mesh/io_volume_common.hpp"
 #include "mesh/text_scanner.hpp"
 #include "structmesh/error.hpp"
@@ -21,7 +22,6 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 #include <string>
 #include <string_view>
@@ -156,11 +156,7 @@ class ByteReader {
   template <typename T>
   T load(const char* what) {
     if (remaining() < sizeof(T)) fail(std::string("truncated binary data: expected ") + what);
-    unsigned char bytes[sizeof(T)];
-    std::memcpy(bytes, data_.data() + pos_, sizeof(T));
-    if (swap_) std::reverse(bytes, bytes + sizeof(T));
-    T value;
-    std::memcpy(&value, bytes, sizeof(T));
+    const T value = detail::load_scalar<T>(data_.data() + pos_, swap_);
     pos_ += sizeof(T);
     return value;
   }

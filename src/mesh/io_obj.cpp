@@ -118,14 +118,7 @@ std::string write_obj(const MeshBundle& mesh) {
   out += " vertices, ";
   detail::append_integer(out, mesh.triangles.size() + mesh.quads.size());
   out += " faces\n";
-  for (const Vec3& p : mesh.points) {
-    out += 'v';
-    for (int k = 0; k < 3; ++k) {
-      out += ' ';
-      detail::append_real(out, p[k]);
-    }
-    out += '\n';
-  }
+  detail::append_point_lines(out, mesh.points, "v ");
   const auto write_faces = [&](const auto& elements) {
     for (const auto& element : elements) {
       out += 'f';

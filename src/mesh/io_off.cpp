@@ -125,25 +125,8 @@ std::string write_off(const MeshBundle& mesh) {
   out += ' ';
   detail::append_integer(out, mesh.triangles.size() + mesh.quads.size());
   out += " 0\n";
-  for (const Vec3& p : mesh.points) {
-    for (int k = 0; k < 3; ++k) {
-      if (k != 0) out += ' ';
-      detail::append_real(out, p[k]);
-    }
-    out += '\n';
-  }
-  const auto write_faces = [&](const auto& elements) {
-    for (const auto& element : elements) {
-      detail::append_integer(out, element.size());
-      for (const Index v : element) {
-        out += ' ';
-        detail::append_integer(out, v);
-      }
-      out += '\n';
-    }
-  };
-  write_faces(mesh.triangles);
-  write_faces(mesh.quads);
+  detail::append_point_lines(out, mesh.points);
+  detail::append_counted_face_lines(out, mesh);
   return out;
 }
 

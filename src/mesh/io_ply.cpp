@@ -1,6 +1,7 @@
 // Stanford PLY, ASCII and binary (both byte orders). Only vertex x/y/z and the
 // face vertex index lists are kept; every other property and element is skipped
 // with its declared size, so files with normals, colours or extra elements read.
+#include "mesh/binary_scalar.hpp"
 #include "mesh/surface_io.hpp"
 #include "mesh/text_scanner.hpp"
 #include "structmesh/io.hpp"
@@ -17,8 +18,10 @@ namespace structmesh {
 
 namespace {
 
-enum class Scalar : std::uint8_t { Int8, UInt8, Int16, UInt16, Int32, UInt32, Float32, Float64 };
+using detail::Scalar;
+using detail::scalar_size;
 
+// PLY has no 64-bit integer types.
 std::optional<Scalar> scalar_from_name(std::string_view name) {
   if (name == "char" || name == "int8") return Scalar::Int8;
   if (name == "uchar" || name == "uint8") return Scalar::UInt8;
@@ -30,26 +33,6 @@ std::optional<Scalar> scalar_from_name(std::string_view name) {
   if (name == "double" || name == "float64") return Scalar::Float64;
   return std::nullopt;
 }
-
-std::size_t scalar_size(Scalar s) {
-  switch (s) {
-    case Scalar::Int8:
-    case Scalar::UInt8:
-      return 1;
-    case Scalar::Int16:
-    case Scalar::UInt16:
-      return 2;
-    case Scalar::Int32:
-    case Scalar::UInt32:
-    case Scalar::Float32:
-      return 4;
-    case Scalar::Float64:
-      return 8;
-  }
-  return 8;
-}
-
-bool is_integer(Scalar s) { return s != Scalar::Float32 && s != Scalar::Float64; }
 
 // What the reader does with a property's values.
 enum class Role : std::uint8_t { Skip, X, Y, Z, FaceIndices };
@@ -145,7 +128,7 @@ Header read_header(detail::TextScanner& in) {
       if (tokens.size() == 5 && tokens[1] == "list") {
         const auto count_type = scalar_from_name(tokens[2]);
         const auto item_type = scalar_from_name(tokens[3]);
-        if (!count_type || !is_integer(*count_type))
+        if (!count_type || detail::is_float(*count_type))
           fail_at(line, "list count type must be an integer type, found '" + in.clip(tokens[2]) + "'");
         if (!item_type) fail_at(line, "unknown property type '" + in.clip(tokens[3]) + "'");
         property.is_list = true;
@@ -166,7 +149,7 @@ Header read_header(detail::TextScanner& in) {
         if (name == "z") property.role = Role::Z;
       }
       if (element.name == "face" && property.is_list && (name == "vertex_indices" || name == "vertex_index")) {
-        if (!is_integer(property.type)) fail_at(line, "face vertex indices must have an integer type");
+        if (detail::is_float(property.type)) fail_at(line, "face vertex indices must have an integer type");
         property.role = Role::FaceIndices;
       }
       if (property.role != Role::Skip)
@@ -233,6 +216,8 @@ class BinarySource {
         return reader_.read<std::int32_t>("a value");
       case Scalar::UInt32:
         return reader_.read<std::uint32_t>("a value");
+      case Scalar::Int64:  // no PLY type name maps to these (scalar_from_name)
+      case Scalar::UInt64:
       case Scalar::Float32:
       case Scalar::Float64:
         break;
@@ -374,30 +359,17 @@ std::string write_ply(const MeshBundle& mesh, Encoding encoding) {
   // "int" is what most tools expect; "uint" only when the indices need it.
   out += mesh.points.size() <= 0x7fffffffu ? "\nproperty list uchar int vertex_indices\nend_header\n"
                                            : "\nproperty list uchar uint vertex_indices\nend_header\n";
-  for (const Vec3& p : mesh.points) {
-    for (int k = 0; k < 3; ++k) {
-      if (binary) {
-        detail::append_le<double>(out, p[k]);
-      } else {
-        if (k != 0) out += ' ';
-        detail::append_real(out, p[k]);
-      }
-    }
-    if (!binary) out += '\n';
+  if (!binary) {
+    detail::append_point_lines(out, mesh.points);
+    detail::append_counted_face_lines(out, mesh);
+    return out;
   }
+  for (const Vec3& p : mesh.points)
+    for (int k = 0; k < 3; ++k) detail::append_le<double>(out, p[k]);
   const auto write_faces = [&](const auto& elements) {
     for (const auto& element : elements) {
-      if (binary) {
-        detail::append_le<std::uint8_t>(out, static_cast<std::uint8_t>(element.size()));
-        for (const Index v : element) detail::append_le<std::uint32_t>(out, v);
-      } else {
-        detail::append_integer(out, element.size());
-        for (const Index v : element) {
-          out += ' ';
-          detail::append_integer(out, v);
-        }
-        out += '\n';
-      }
+      detail::append_le<std::uint8_t>(out, static_cast<std::uint8_t>(element.size()));
+      for (const Index v : element) detail::append_le<std::uint32_t>(out, v);
     }
   };
   write_faces(mesh.triangles);

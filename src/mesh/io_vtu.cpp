@@ -14,6 +14,7 @@
 // The XML is scanned by a small hand-written tag scanner: no XML library is among
 // structmesh's dependencies, VTU needs only tags, attributes and the text between
 // tags, and appended raw data is arbitrary bytes that a general XML parser rejects.
+#include "mesh/binary_scalar.hpp"
 #include "mesh/io_volume_common.hpp"
 #include "structmesh/error.hpp"
 #include "structmesh/io.hpp"
@@ -24,7 +25,6 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 #include <optional>
 #include <string>
@@ -177,7 +177,10 @@ class XmlScanner {
 // ---------------------------------------------------------------------------
 // Data arrays.
 
-enum class Scalar { Int8, UInt8, Int16, UInt16, Int32, UInt32, Int64, UInt64, Float32, Float64 };
+using detail::append_le;
+using detail::is_float;
+using detail::Scalar;
+using detail::scalar_size;
 
 std::optional<Scalar> parse_scalar(std::string_view name) {
   static constexpr std::pair<std::string_view, Scalar> kTypes[] = {
@@ -188,28 +191,6 @@ std::optional<Scalar> parse_scalar(std::string_view name) {
     if (n == name) return s;
   return std::nullopt;
 }
-
-std::size_t scalar_size(Scalar s) {
-  switch (s) {
-    case Scalar::Int8:
-    case Scalar::UInt8:
-      return 1;
-    case Scalar::Int16:
-    case Scalar::UInt16:
-      return 2;
-    case Scalar::Int32:
-    case Scalar::UInt32:
-    case Scalar::Float32:
-      return 4;
-    case Scalar::Int64:
-    case Scalar::UInt64:
-    case Scalar::Float64:
-      return 8;
-  }
-  return 8;
-}
-
-bool is_float(Scalar s) { return s == Scalar::Float32 || s == Scalar::Float64; }
 
 struct ArrayInfo {
   std::size_t tag_pos = 0;  // for error messages
@@ -344,28 +325,14 @@ class ArrayDecoder {
   [[noreturn]] void fail(const std::string& message) const { source_.fail(array_->tag_pos, message); }
 
   std::uint64_t header_value(const unsigned char* bytes) const {
-    unsigned char b[8];
-    std::memcpy(b, bytes, file_.header_size);
-    if (file_.big_endian) std::reverse(b, b + file_.header_size);
-    if (file_.header_size == 4) {
-      std::uint32_t v;
-      std::memcpy(&v, b, 4);
-      return v;
-    }
-    std::uint64_t v;
-    std::memcpy(&v, b, 8);
-    return v;
+    if (file_.header_size == 4) return detail::load_scalar<std::uint32_t>(bytes, file_.big_endian);
+    return detail::load_scalar<std::uint64_t>(bytes, file_.big_endian);
   }
 
   template <typename T>
   T load(const unsigned char* p) const {
-    unsigned char b[sizeof(T)];
-    std::memcpy(b, p, sizeof(T));
     // Files are little endian unless byte_order says otherwise; swap when the host differs.
-    if (file_.big_endian != (std::endian::native == std::endian::big)) std::reverse(b, b + sizeof(T));
-    T v;
-    std::memcpy(&v, b, sizeof(T));
-    return v;
+    return detail::load_scalar<T>(p, file_.big_endian != (std::endian::native == std::endian::big));
   }
 
   /// `bytes` holds whole values of the array's type (checked by the callers).
@@ -887,15 +854,6 @@ std::string xml_escape(std::string_view s) {
     }
   }
   return out;
-}
-
-/// Appends `value` little endian, whatever the host's byte order.
-template <typename T>
-void append_le(std::string& out, T value) {
-  char bytes[sizeof(T)];
-  std::memcpy(bytes, &value, sizeof(T));
-  if constexpr (std::endian::native == std::endian::big) std::reverse(bytes, bytes + sizeof(T));
-  out.append(bytes, sizeof(T));
 }
 
 void check_arrays(const std::vector<DataArray>& arrays, std::size_t expected, const char* where) {

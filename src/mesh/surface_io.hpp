@@ -1,17 +1,17 @@
 // Internal: pieces shared by the OBJ, OFF, PLY and STL readers and writers.
 #pragma once
 
+#include "mesh/binary_scalar.hpp"
 #include "structmesh/error.hpp"
 #include "structmesh/io.hpp"
 
 #include <bit>
 #include <charconv>
 #include <cstdint>
-#include <cstring>
 #include <span>
 #include <string>
 #include <string_view>
-#include <utility>
+#include <vector>
 
 namespace structmesh::detail {
 
@@ -75,14 +75,33 @@ inline void append_integer(std::string& out, std::uint64_t value) {
   out.append(buffer, static_cast<std::size_t>(result.ptr - buffer));
 }
 
-/// Appends the bytes of an arithmetic value in little-endian order.
-template <typename T>
-void append_le(std::string& out, T value) {
-  unsigned char bytes[sizeof(T)];
-  std::memcpy(bytes, &value, sizeof(T));
-  if constexpr (std::endian::native == std::endian::big)
-    for (std::size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(bytes[i], bytes[sizeof(T) - 1 - i]);
-  out.append(reinterpret_cast<const char*>(bytes), sizeof(T));
+/// Appends one line per point, `prefix` (OBJ's "v ") then "x y z" in exact reals.
+inline void append_point_lines(std::string& out, const std::vector<Vec3>& points, std::string_view prefix = {}) {
+  for (const Vec3& p : points) {
+    out += prefix;
+    for (int k = 0; k < 3; ++k) {
+      if (k != 0) out += ' ';
+      append_real(out, p[k]);
+    }
+    out += '\n';
+  }
+}
+
+/// Appends one line per triangle, then per quad: the corner count, then the
+/// 0-based point indices (OFF, ASCII PLY).
+inline void append_counted_face_lines(std::string& out, const MeshBundle& mesh) {
+  const auto append_faces = [&](const auto& elements) {
+    for (const auto& element : elements) {
+      append_integer(out, element.size());
+      for (const Index v : element) {
+        out += ' ';
+        append_integer(out, v);
+      }
+      out += '\n';
+    }
+  };
+  append_faces(mesh.triangles);
+  append_faces(mesh.quads);
 }
 
 /// A bounds-checked cursor over binary data. Every read checks the remaining
@@ -111,13 +130,8 @@ class ByteReader {
   template <typename T>
   T read(const char* what) {
     require(sizeof(T), what);
-    unsigned char bytes[sizeof(T)];
-    std::memcpy(bytes, data_.data() + pos_, sizeof(T));
+    const T value = load_scalar<T>(data_.data() + pos_, swap_);
     pos_ += sizeof(T);
-    if (swap_)
-      for (std::size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(bytes[i], bytes[sizeof(T) - 1 - i]);
-    T value;
-    std::memcpy(&value, bytes, sizeof(T));
     return value;
   }
 
