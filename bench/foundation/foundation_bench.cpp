@@ -10,6 +10,7 @@
 #include "structmesh/quality.hpp"
 
 #include <gmsh.h>
+#include <tbb/parallel_for.h>
 
 #include <chrono>
 #include <cstdio>
@@ -124,16 +125,39 @@ int main(int argc, char** argv) {
   const QuadMesh quads = jittered_quad_grid(grid * 10, 0.3);
   HexQuality hq;
   QuadQuality qq;
+  // The per-element scaled Jacobian alone is what vtkMeshQuality computes; the full
+  // report adds the 8-corner value, dihedral angles, statistics and singular vertices.
+  std::vector<double> values(hexes.hexes.size());
+  const double t_hex_sj = best_of(3, [&] {
+    tbb::parallel_for(std::size_t{0}, hexes.hexes.size(), [&](std::size_t i) {
+      std::array<Vec3, 8> c;
+      for (int k = 0; k < 8; ++k) c[k] = hexes.points[hexes.hexes[i][k]];
+      values[i] = hex_scaled_jacobian(c).value_or(0.0);
+    });
+  });
   const double t_hex = best_of(3, [&] { hq = hex_quality(hexes); });
+  values.assign(quads.quads.size(), 0.0);
+  const Vec3 up(0, 0, 1);
+  const double t_quad_sj = best_of(3, [&] {
+    tbb::parallel_for(std::size_t{0}, quads.quads.size(), [&](std::size_t i) {
+      const auto& q = quads.quads[i];
+      values[i] =
+          quad_scaled_jacobian({quads.points[q[0]], quads.points[q[1]], quads.points[q[2]], quads.points[q[3]]}, &up);
+    });
+  });
   const double t_quad = best_of(3, [&] { qq = quad_quality(quads); });
   write_mesh(work / "hex_grid.vtu", to_bundle(hexes));
   write_mesh(work / "quad_grid.vtu", to_bundle(quads));
-  std::printf("## Quality measures\n\n");
-  std::printf("| input | elements | structmesh time (s) | SJ min / avg | inverted |\n|---|---|---|---|---|\n");
-  std::printf("| jittered hex grid %d^3 | %zu | %.3f | %.4f / %.4f | %zu |\n", grid, hexes.hexes.size(), t_hex,
-              hq.scaled_jacobian_stats.min, hq.scaled_jacobian_stats.mean, hq.inverted);
-  std::printf("| jittered quad grid %d^2 | %zu | %.3f | %.4f / %.4f | %zu |\n\n", grid * 10, quads.quads.size(), t_quad,
-              qq.scaled_jacobian_stats.min, qq.scaled_jacobian_stats.mean, qq.inverted);
+  std::printf("## Quality measures (anchor: VTK's vtkMeshQuality, table below)\n\n");
+  std::printf(
+      "| input | elements | structmesh SJ only (s) | structmesh full report (s) | SJ min / avg | inverted | singular "
+      "|\n|---|---|---|---|---|---|---|\n");
+  std::printf("| jittered hex grid %d^3 | %zu | %.3f | %.3f | %.4f / %.4f | %zu | %zu |\n", grid, hexes.hexes.size(),
+              t_hex_sj, t_hex, hq.scaled_jacobian_stats.min, hq.scaled_jacobian_stats.mean, hq.inverted,
+              hq.singular_vertices);
+  std::printf("| jittered quad grid %d^2 | %zu | %.3f | %.3f | %.4f / %.4f | %zu | %zu |\n\n", grid * 10,
+              quads.quads.size(), t_quad_sj, t_quad, qq.scaled_jacobian_stats.min, qq.scaled_jacobian_stats.mean,
+              qq.inverted, qq.singular_vertices);
 
   // 2. Reading .msh: ours vs Gmsh on the same file.
   std::printf("## Reading Gmsh .msh v4.1 (ASCII) — structmesh vs the Gmsh 4.8 library\n\n");
