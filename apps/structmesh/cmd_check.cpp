@@ -29,7 +29,7 @@ void print_problems(const GlobalOptions& global, const std::string& file, const 
 }
 
 void row(const GlobalOptions& global, const char* name, const std::string& value) {
-  if (!global.quiet) std::printf("  %-24s %s\n", name, value.c_str());
+  if (!global.quiet) std::printf("  %-26s %s\n", name, value.c_str());
 }
 std::string yes_no(bool b) { return b ? "yes" : "no"; }
 
@@ -42,7 +42,8 @@ int check_surface_file(const GlobalOptions& global, const MeshBundle& mesh, cons
   row(global, "edge-manifold",
       yes_no(r.edge_manifold) + " (" + std::to_string(r.non_manifold_edges) + " non-manifold edges)");
   row(global, "non-manifold vertices", std::to_string(r.non_manifold_vertices));
-  row(global, "consistently oriented", yes_no(r.oriented));
+  row(global, "consistently oriented",
+      yes_no(r.oriented) + (r.oriented ? "" : " (" + std::to_string(r.flipped_faces) + " faces to flip)"));
   row(global, "signed volume",
       std::to_string(r.signed_volume) + (r.signed_volume > 0 ? " (outward)" : " (inward or open)"));
   row(global, "components", std::to_string(r.components));
@@ -50,6 +51,8 @@ int check_surface_file(const GlobalOptions& global, const MeshBundle& mesh, cons
   row(global, "genus", r.genus >= 0 ? std::to_string(r.genus) : std::string("- (not a closed oriented manifold)"));
   row(global, "degenerate faces", std::to_string(r.degenerate_faces));
   row(global, "self-intersections", options.self_intersections ? std::to_string(r.self_intersections) : "not checked");
+  row(global, "folds (adjacent overlaps)",
+      options.self_intersections ? std::to_string(r.adjacent_overlaps) : "not checked");
   row(global, "valid solid boundary", yes_no(r.valid_solid_boundary));
   print_problems(global, mesh.source_name, r.problems);
   write_json_report(global, {{"file", mesh.source_name},
@@ -62,6 +65,9 @@ int check_surface_file(const GlobalOptions& global, const MeshBundle& mesh, cons
                              {"non_manifold_vertices", r.non_manifold_vertices},
                              {"degenerate_faces", r.degenerate_faces},
                              {"inconsistent_edges", r.inconsistent_edges},
+                             {"flipped_faces", r.flipped_faces},
+                             {"adjacent_overlaps", options.self_intersections ? nlohmann::json(r.adjacent_overlaps)
+                                                                              : nlohmann::json(nullptr)},
                              {"self_intersections", options.self_intersections ? nlohmann::json(r.self_intersections)
                                                                                : nlohmann::json(nullptr)},
                              {"components", r.components},
