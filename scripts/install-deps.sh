@@ -7,7 +7,7 @@ packages=(
   cmake g++ ninja-build pkg-config          # build
   libeigen3-dev libcgal-dev libtbb-dev      # geometry, exact predicates, threads
   libcli11-dev nlohmann-json3-dev           # command line, JSON reports
-  libpng-dev                                # PNG pictures
+  libpng-dev zlib1g-dev                     # PNG pictures, compressed VTU
   libgtest-dev libbenchmark-dev             # tests, benchmarks
   libgmsh-dev gmsh                          # oracle: Gmsh reads our .msh; makes a hex mesh for tests
   python3-vtk9                              # oracle: VTK's vtkMeshQuality (Verdict)
