@@ -11,7 +11,7 @@ packages=(
   libgtest-dev libbenchmark-dev             # tests, benchmarks
   libgmsh-dev gmsh                          # oracle: Gmsh reads our .msh; makes a hex mesh for tests
   python3-vtk9                              # oracle: VTK's vtkMeshQuality (Verdict)
-  clang libclang-rt-14-dev                  # libFuzzer + sanitizers for the fuzz pass
+  clang libclang-rt-14-dev clang-format     # libFuzzer + sanitizers for the fuzz pass; style check
 )
 
 missing=()

@@ -120,7 +120,9 @@ class TextScanner {
     return value;
   }
 
-  [[noreturn]] void fail(const std::string& message) const { throw InputError(located_message(source_, line_, message)); }
+  [[noreturn]] void fail(const std::string& message) const {
+    throw InputError(located_message(source_, line_, message));
+  }
 
   static std::string clip(std::string_view s) {
     return s.size() <= 40 ? std::string(s) : std::string(s.substr(0, 40)) + "...";
