@@ -8,6 +8,8 @@ packages=(
   libeigen3-dev libcgal-dev libtbb-dev      # geometry, exact predicates, threads
   libcli11-dev nlohmann-json3-dev           # command line, JSON reports
   libpng-dev zlib1g-dev                     # PNG pictures, compressed VTU
+  libmetis-dev coinor-libcbc-dev            # graph partitioning engine, MILP (--method exact)
+  liblbfgspp-dev                            # quasi-Newton minimiser of the L_p-CVT energy
   libgtest-dev libbenchmark-dev             # tests, benchmarks
   libgmsh-dev gmsh                          # oracle: Gmsh reads our .msh; makes a hex mesh for tests
   python3-vtk9                              # oracle: VTK's vtkMeshQuality (Verdict)
