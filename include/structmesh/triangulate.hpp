@@ -23,6 +23,13 @@ struct TriangulateOptions {
   /// drops below that floor (about 3 triangles per boundary segment on the Key and
   /// the Pipe): a smaller target returns the angle-only refinement.
   std::size_t target_triangles = 0;
+  /// > 0: before refinement, insert the points of a square grid of this spacing that
+  /// lie inside the region and at least a quarter spacing from the boundary
+  /// segments of the triangle they fall in. Without interior points a polygon's
+  /// triangulation has long slivers across the region; with them every triangle
+  /// is at most about a spacing across (the restricted Voronoi clipping of §2.2
+  /// then meets only a few cells per triangle).
+  double steiner_spacing = 0;
 };
 
 struct RegionTriangulation {

@@ -47,6 +47,29 @@ struct DomainMesh {
   Frame frame;
 };
 
+/// Lambert azimuthal equal-area projection for lon/lat regions (design §2.0):
+/// equal-area keeps R_W honest over the Gulf of Mexico's 13° of latitude.
+struct Projection {
+  bool active = false;
+  double lat0 = 0, lon0 = 0;  ///< degrees, the centre of the region's bounding box
+  Vec2 forward(const Vec2& lonlat) const;  ///< degrees -> metres
+  Vec2 inverse(const Vec2& xy) const;      ///< metres -> degrees
+  std::string describe() const;            ///< "" when inactive
+};
+/// Active for Polygon2::Coordinates::LonLat, centred on the bounding box.
+Projection choose_projection(const Polygon2& region);
+Polygon2 project_region(const Polygon2& region, const Projection& projection);
+
+/// Triangulates the metric region with a Steiner grid of the given spacing (metric
+/// units; 0 = none) and expresses it in `frame`.
+DomainMesh build_domain_mesh(const Polygon2& metric_region, const Frame& frame, double steiner_spacing);
+
+/// A simplified copy of the region for the CVT optimisation (design §2.4): rings
+/// simplified by Douglas-Peucker to `tolerance`, rings of area below `min_area`
+/// dropped. Returns the region itself when simplification changes nothing or would
+/// make it invalid.
+Polygon2 proxy_region(const Polygon2& metric_region, double tolerance, double min_area);
+
 // ---------------------------------------------------------------------------------
 // Tessellation: a conforming polygonal subdivision of the domain (restricted Voronoi
 // pieces, or triangles for the METIS/MADD baselines).
@@ -72,6 +95,19 @@ struct Tessellation {
     return half_edge + 1 == face_offsets[face + 1] ? face_offsets[face] : half_edge + 1;
   }
 };
+
+/// The fine triangulation of the METIS and MADD baselines (design §2.9): a quality
+/// constrained Delaunay triangulation of about `target_triangles` triangles, one
+/// face per triangle. face_cell = triangle, or with `madd` the triangle's group after
+/// MADD-style merging (§3.1.1: a triangle whose smallest angle is below 30° is merged
+/// with its neighbour across the edge opposite that angle; groups of at most 4).
+Tessellation triangle_tessellation(const Polygon2& metric_region, const Frame& frame, std::size_t target_triangles,
+                                   bool madd);
+
+/// Sets boundary_ring of every region-boundary half-edge from the input ring of
+/// its endpoints or, for a piece strictly inside a boundary segment, of the
+/// segment it lies on (found through the neighbouring boundary half-edges).
+void assign_boundary_rings(Tessellation& tessellation, const Polygon2& region);
 
 /// Signed area of each face (normalised units).
 std::vector<double> face_areas(const Tessellation& tessellation);

@@ -179,6 +179,56 @@ void build(const Polygon2& region, Cdt& cdt) {
   mark_domain(cdt);
 }
 
+double squared_distance_to_segment(const Point& p, const Point& a, const Point& b) {
+  const double dx = b.x() - a.x(), dy = b.y() - a.y();
+  const double length2 = dx * dx + dy * dy;
+  double t = length2 > 0 ? ((p.x() - a.x()) * dx + (p.y() - a.y()) * dy) / length2 : 0.0;
+  t = std::clamp(t, 0.0, 1.0);
+  const double ex = a.x() + t * dx - p.x(), ey = a.y() + t * dy - p.y();
+  return ex * ex + ey * ey;
+}
+
+// Steiner grid (§2.1). Rows are walked in serpentine order so each point location
+// starts from the previous point's face (a short walk). A point is skipped when it is
+// outside the region or closer than spacing/4 to a constrained edge of the face it
+// lies in: near the boundary the boundary points themselves bound the triangle size,
+// and a grid point next to a segment would only make slivers.
+void insert_steiner_grid(const Polygon2& region, double spacing, Cdt& cdt) {
+  const BoundingBox2 box = region.bounding_box();
+  const auto columns = static_cast<long long>(std::floor((box.max.x() - box.min.x()) / spacing)) + 1;
+  const auto rows = static_cast<long long>(std::floor((box.max.y() - box.min.y()) / spacing)) + 1;
+  if (columns * rows > 400'000'000LL) throw InputError("triangulate_region: Steiner grid too fine");
+  // Centre the grid in the box so symmetric regions get symmetric grids.
+  const double x0 = 0.5 * (box.min.x() + box.max.x()) - 0.5 * static_cast<double>(columns - 1) * spacing;
+  const double y0 = 0.5 * (box.min.y() + box.max.y()) - 0.5 * static_cast<double>(rows - 1) * spacing;
+  const double clearance2 = 0.0625 * spacing * spacing;
+  std::vector<Point> accepted;
+  FaceHandle hint;
+  for (long long r = 0; r < rows; ++r) {
+    for (long long c0 = 0; c0 < columns; ++c0) {
+      const long long c = r % 2 == 0 ? c0 : columns - 1 - c0;
+      const Point p(x0 + static_cast<double>(c) * spacing, y0 + static_cast<double>(r) * spacing);
+      Cdt::Locate_type type;
+      int li = 0;
+      const FaceHandle f = cdt.locate(p, type, li, hint);
+      hint = f;
+      if (type != Cdt::FACE || cdt.is_infinite(f) || f->info().level % 2 != 1) continue;
+      bool clear = true;
+      for (int i = 0; i < 3 && clear; ++i) {
+        if (f->is_constrained(i)) {
+          clear = squared_distance_to_segment(p, f->vertex(Cdt::ccw(i))->point(), f->vertex(Cdt::cw(i))->point()) >=
+                  clearance2;
+        }
+      }
+      if (clear) accepted.push_back(p);
+    }
+  }
+  // Bulk insertion (spatially sorted by CGAL); the new vertices keep the default
+  // info (kInvalidIndex) and are numbered later by first use.
+  cdt.insert(accepted.begin(), accepted.end());
+  mark_domain(cdt);
+}
+
 std::size_t inside_count(const Cdt& cdt) {
   std::size_t count = 0;
   for (const FaceHandle f : cdt.finite_face_handles()) count += f->is_in_domain() ? 1 : 0;
@@ -196,7 +246,7 @@ std::size_t inside_count(const Cdt& cdt) {
 // bound dominates; with the floor estimate below, first attempts land 0–26% off).
 // The count is then corrected (count ∝ 1/s²) until within ±25%, at most 4 attempts
 // (best effort); refining further works in place, coarsening needs a rebuild.
-void refine(const Polygon2& region, std::size_t target, Cdt& cdt) {
+void refine(const Polygon2& region, std::size_t target, double steiner_spacing, Cdt& cdt) {
   using Criteria = CGAL::Delaunay_mesh_size_criteria_2<Cdt>;
   constexpr double kShapeBound = 0.125;
   CGAL::refine_Delaunay_mesh_2(cdt, Criteria(kShapeBound, 0), true);
@@ -218,6 +268,7 @@ void refine(const Polygon2& region, std::size_t target, Cdt& cdt) {
     if (ratio >= 1.25 && attempt + 1 < kAttempts) {
       cdt.clear();
       build(region, cdt);
+      if (steiner_spacing > 0) insert_steiner_grid(region, steiner_spacing, cdt);
     }
   }
 }
@@ -228,7 +279,8 @@ RegionTriangulation triangulate_region(const Polygon2& region, const Triangulate
   check_rings(region);
   Cdt cdt;
   build(region, cdt);
-  if (options.target_triangles > 0) refine(region, options.target_triangles, cdt);
+  if (options.steiner_spacing > 0) insert_steiner_grid(region, options.steiner_spacing, cdt);
+  if (options.target_triangles > 0) refine(region, options.target_triangles, options.steiner_spacing, cdt);
 
   // Deterministic, spatially local triangle order (§2.1): Hilbert order of centroids.
   std::vector<FaceHandle> faces;
