@@ -25,6 +25,7 @@ Action add_check_command(CLI::App& command, const GlobalOptions& global);
 Action add_quality_command(CLI::App& command, const GlobalOptions& global);
 Action add_generate_command(CLI::App& command, const GlobalOptions& global);
 Action add_convert_command(CLI::App& command, const GlobalOptions& global);
+Action add_partition2d_command(CLI::App& command, const GlobalOptions& global);
 
 /// Adds --json, --quiet, --progress and --threads to a subcommand (they are also
 /// accepted before the subcommand name).

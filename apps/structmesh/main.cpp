@@ -51,6 +51,8 @@ int main(int argc, char** argv) {
   add("quality", "Scaled Jacobian, dihedral angles, singular vertices, D_g, D_v of a mesh", cli::add_quality_command);
   add("generate", "Write a built-in region: the Key (1 hole) or the Pipe (9 holes) of §3.4", cli::add_generate_command);
   add("convert", "Convert a mesh or region between formats (format from the extension)", cli::add_convert_command);
+  add("partition2d", "Split a planar region into k balanced, compact parts with near-90° corners (§3.2)",
+      cli::add_partition2d_command);
 
   try {
     app.parse(argc, argv);
