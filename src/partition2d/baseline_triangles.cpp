@@ -76,10 +76,9 @@ Tessellation triangle_tessellation(const Polygon2& metric_region, const Frame& f
     tessellation.face_offsets[t + 1] = static_cast<Index>(3 * (t + 1));
     std::copy(cdt.triangles[t].begin(), cdt.triangles[t].end(), tessellation.face_vertices.begin() + 3 * t);
   }
-  match_twins(tessellation);
-
   tessellation.face_cell.resize(triangles);
   std::iota(tessellation.face_cell.begin(), tessellation.face_cell.end(), Index{0});
+  match_twins(tessellation);
   if (madd) {
     // MADD-style merging (§3.1.1, as the dissertation describes it; not
     // Linardakis-Chrisochoides' medial-axis algorithm): sliver-ish triangles are
