@@ -121,6 +121,22 @@ expect 0 "planar mesh" -- "$sm" check "$work/quads.mesh"
 sed 's/^2 3 6 5 0$/5 6 3 2 0/' "$work/quads.mesh" >"$work/flipped.mesh"
 expect 2 "flipped\.mesh:14: inverted-element" -- "$sm" check "$work/flipped.mesh"
 
+# partition2d: the parts file reads back as a valid multi-polygon region, the report has the metrics
+expect 0 "R_W" -- "$sm" partition2d key --segments 2000 --parts 8 --cells 600 -o "$work/parts.geojson" \
+  -o "$work/parts.svg" -o "$work/parts.png" --json "$work/parts.json"
+expect 0 "polygons / rings / holes +8 /" -- "$sm" check "$work/parts.geojson"
+[[ $(json_field "$work/parts.json" "['parts']") == 8 ]] || { echo "FAIL: partition2d report parts"; failed=$((failed + 1)); }
+[[ $(json_field "$work/parts.json" "['max_components_per_part']") == 1 ]] || { echo "FAIL: partition2d components"; failed=$((failed + 1)); }
+head -c 8 "$work/parts.png" | od -An -c | grep -q "P   N   G" || { echo "FAIL: parts.png is not a PNG"; failed=$((failed + 1)); }
+expect 0 "metis" -- "$sm" partition2d "$work/key.geojson" --parts 4 --method metis --cells 2000
+expect 2 "even" -- "$sm" partition2d key --parts 4 --p 7
+expect 2 "" -- "$sm" partition2d key --parts 0
+expect 2 "" -- "$sm" partition2d key --parts 4 --method simplex
+expect 2 "exact solves graphs of at most" -- "$sm" partition2d key --parts 2 --method exact --cells 5000
+expect 2 "partition2d writes" -- "$sm" partition2d key --parts 2 -o "$work/parts.obj"
+printf '{"type": "Polygon", "coordinates": [[[0,0],[2,2],[2,0],[0,2],[0,0]]]}' >"$work/bowtie.geojson"
+expect 2 "not valid" -- "$sm" partition2d "$work/bowtie.geojson" --parts 2
+
 # real data: valid, open and self-intersecting models are told apart
 if [[ -d "$data/surfaces" ]]; then
   expect 0 "genus +1" -- "$sm" check "$data/surfaces/rocker-arm.obj"
