@@ -17,8 +17,15 @@ echo "== validate them as regions"
 "$sm" check "$out/key.geojson" --json "$out/key-check.json"
 "$sm" check "$out/pipe.poly" --json "$out/pipe-check.json"
 
+echo "== geometry-aware partitioning (§3.2): Key into 32 parts, Pipe into 16, CVT-GP beside METIS"
+"$sm" partition2d "$out/key.geojson" --parts 32 -o "$out/key-parts.geojson" -o "$out/key-parts.svg" -o "$out/key-parts.png" --json "$out/key-parts.json"
+"$sm" partition2d "$out/key.geojson" --parts 32 --method metis -o "$out/key-parts-metis.png" --json "$out/key-parts-metis.json"
+"$sm" partition2d "$out/pipe.geojson" --parts 16 -o "$out/pipe-parts.geojson" -o "$out/pipe-parts.png" --json "$out/pipe-parts.json"
+
 data=${STRUCTMESH_DATA:-$root/../shared/data}
 if [[ -d "$data" ]]; then
+  echo "== the Gulf of Mexico (lon/lat, 1,624 islands) into 128 parts"
+  "$sm" partition2d "$data/regions/gulf_of_mexico.geojson" --parts 128 -o "$out/gulf-parts.geojson" -o "$out/gulf-parts.png" --json "$out/gulf-parts.json"
   echo "== check real data from $data"
   "$sm" check "$data/regions/matagorda_bay.geojson" --json "$out/matagorda-check.json"
   "$sm" convert "$data/regions/matagorda_bay.geojson" -o "$out/matagorda_bay.png"
