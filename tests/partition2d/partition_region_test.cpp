@@ -113,7 +113,7 @@ TEST(PartitionRegion, DeterministicAndThreadIndependent) {
     tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
     one_thread = partition_region(pipe, options);
   }
-  for (const Partition* other : {&b, &one_thread}) {
+  for (const Partition* other : std::initializer_list<const Partition*>{&b, &one_thread}) {
     ASSERT_EQ(a.vertices.size(), other->vertices.size());
     EXPECT_TRUE(a.vertices == other->vertices);
     EXPECT_TRUE(a.part_areas == other->part_areas);
