@@ -104,6 +104,13 @@ class GeoJsonReader {
     if (!feature.is_object()) fail(where, "is not a JSON object");
     if (type_of(feature, where) != "Feature")
       fail(where, "expected a Feature, found '" + type_of(feature, where) + "'");
+    // The separator polylines of a structmesh partition file (write_partition_geojson)
+    // describe the parts' shared boundaries; the parts themselves are the region.
+    const json* properties = member(feature, "properties");
+    if (properties != nullptr && properties->is_object()) {
+      const json* kind = member(*properties, "kind");
+      if (kind != nullptr && kind->is_string() && *kind == "separator") return;
+    }
     const json* geometry = member(feature, "geometry");
     if (geometry == nullptr || geometry->is_null()) fail(where, "has no geometry");
     read_geometry(*geometry, where, 0, coordinates_flag(feature, where));

@@ -117,6 +117,19 @@ TEST(GeoJson, AllPolygonalContainers) {
       1u);
 }
 
+TEST(GeoJson, PartitionSeparatorsAreSkippedOtherLinesRejected) {
+  const std::string parts = R"({"type":"FeatureCollection","features":[
+    {"type":"Feature","properties":{"part":0,"kind":"part"},"geometry":{"type":"Polygon","coordinates":[[[0,0],[1,0],[1,1],[0,0]]]}},
+    {"type":"Feature","properties":{"kind":"separator","left":0,"right":1},"geometry":{"type":"LineString","coordinates":[[0,0],[1,1]]}}
+  ]})";
+  EXPECT_EQ(read_geojson(parts, "parts.geojson").size(), 1u);
+  const std::string road = R"({"type":"FeatureCollection","features":[
+    {"type":"Feature","properties":{"part":0},"geometry":{"type":"Polygon","coordinates":[[[0,0],[1,0],[1,1],[0,0]]]}},
+    {"type":"Feature","properties":{"kind":"road"},"geometry":{"type":"LineString","coordinates":[[0,0],[1,1]]}}
+  ]})";
+  EXPECT_THROW(read_geojson(road, "road.geojson"), InputError);
+}
+
 TEST(GeoJson, CoordinateKind) {
   const std::string small = R"({"type":"Polygon","coordinates":[[[0,0],[1,0],[1,1],[0,0]]]})";
   EXPECT_EQ(read_geojson(small, "a")[0].coordinates, Polygon2::Coordinates::LonLat);
