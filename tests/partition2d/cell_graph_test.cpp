@@ -133,6 +133,14 @@ TEST(CellGraph, GridOfUnitSquares) {
     EXPECT_NEAR(s[k].angle, angles[k], 1e-15);
     EXPECT_EQ(s[k].left_node, left[k]);
   }
+  for (int x = 1; x <= 3; ++x)
+    for (int y = 1; y <= 3; ++y) {
+      const Index c = corner_at(g, Vec2(x, y));
+      ASSERT_NE(c, kInvalidIndex);
+      const auto spokes = spokes_of(g, c);
+      ASSERT_EQ(spokes.size(), 4u);
+      for (int k = 0; k < 4; ++k) EXPECT_NEAR(spokes[k].angle, angles[k], 1e-15);
+    }
   const Index side = corner_at(g, {2, 0});
   ASSERT_NE(side, kInvalidIndex);
   const auto b = spokes_of(g, side);
@@ -164,6 +172,37 @@ TEST(CellGraph, CellSplitByHoleIsTwoNodes) {
   const CellGraph whole = build_cell_graph(grid_tessellation(3, 1, {}, [](int, int) { return Index{0}; }), 1e-3);
   ASSERT_EQ(whole.node_count(), 1u);
   EXPECT_DOUBLE_EQ(whole.node_area[0], 3.0);
+}
+
+TEST(CellGraph, HoleBoundaryGivesBoundarySpokes) {
+  // 3 x 3 squares without the centre one: faces 0 (0,0), 1 (1,0), 2 (2,0), 3 (0,1),
+  // 4 (2,1), 5 (0,2), 6 (1,2), 7 (2,2). At (1,1) the hole fills the sector 0..pi/2.
+  const Tessellation t = grid_tessellation(3, 3, {GridSquare{1, 1}});
+  std::size_t hole_edges = 0;
+  for (std::size_t h = 0; h < t.twin.size(); ++h) hole_edges += t.boundary_ring[h] == 1;
+  EXPECT_EQ(hole_edges, 4u);
+  const CellGraph g = build_cell_graph(t, 1e-3);
+  expect_well_formed(g);
+  ASSERT_EQ(g.node_count(), 8u);
+  const Index c = corner_at(g, {1, 1});
+  ASSERT_NE(c, kInvalidIndex);
+  const auto s = spokes_of(g, c);
+  ASSERT_EQ(s.size(), 4u);
+  EXPECT_EQ(s[0].left_node, 1u);             // -pi/2: separator between faces 0 and 1
+  EXPECT_EQ(s[1].left_node, kInvalidIndex);  // 0: hole boundary, the hole on its left
+  EXPECT_EQ(s[2].left_node, 3u);             // pi/2: hole boundary
+  EXPECT_EQ(s[3].left_node, 0u);             // pi: separator between faces 3 and 0
+  // Every face its own part: the separators meet at 90° (one separator corner), each
+  // separator meets the hole at 90° (two boundary corners), the hole's own 90° bend
+  // between two boundary spokes counts nothing.
+  const std::vector<std::int32_t> labels{0, 1, 2, 3, 4, 5, 6, 7};
+  const CornerCost cost = corner_cost_at(g, c, labels);
+  EXPECT_EQ(cost.separator_corners, 1u);
+  EXPECT_EQ(cost.boundary_corners, 2u);
+  EXPECT_NEAR(cost.separator_sum + cost.boundary_sum, 0, 1e-15);
+  // Faces 0, 1, 3 one part: no separator passes (1,1), nothing counts.
+  const CornerCost none = corner_cost_at(g, c, std::vector<std::int32_t>{0, 0, 1, 0, 1, 1, 1, 1});
+  EXPECT_EQ(none.separator_corners + none.boundary_corners, 0u);
 }
 
 TEST(CellGraph, InteriorEdgesAreNotSpokesAndPassThroughVerticesAreLeftOut) {
@@ -380,6 +419,17 @@ TEST(RepairConnectivity, ManyPiecesEndConnectedAndNonEmpty) {
     EXPECT_NE(std::find(labels.begin(), labels.end(), p), labels.end());
   EXPECT_EQ(repair_connectivity(g, again, parts), moved);  // deterministic
   EXPECT_EQ(again, labels);
+}
+
+TEST(RepairConnectivity, EmptyPartStaysEmpty) {
+  // Part 1 has no node (the caller's problem): repair neither fills nor fails on it.
+  const CellGraph g = build_cell_graph(grid_tessellation(3, 1), 1e-3);
+  std::vector<std::int32_t> labels{0, 2, 0};
+  EXPECT_EQ(max_components_per_part(g, labels, 3), 2u);
+  // Part 0's two equal pieces: the one with the smaller node stays; node 2 joins part 2.
+  EXPECT_EQ(repair_connectivity(g, labels, 3), 1u);
+  EXPECT_EQ(labels, (std::vector<std::int32_t>{0, 2, 2}));
+  EXPECT_EQ(max_components_per_part(g, labels, 3), 1u);
 }
 
 TEST(RepairConnectivity, RejectsBadLabels) {
