@@ -3,6 +3,7 @@
 #include "partition2d/graph_fixtures.hpp"
 
 #include "structmesh/error.hpp"
+#include "structmesh/regions.hpp"
 
 #include <gtest/gtest.h>
 
@@ -337,6 +338,31 @@ TEST(CellGraph, ContractionMergesVerticesOfATinyEdge) {
   const CornerCost b = corner_cost(raw, labels);
   EXPECT_EQ(b.separator_corners, 6u);
   EXPECT_NEAR(b.separator_sum, kPi, 1e-4);
+}
+
+TEST(CellGraph, TriangleTessellationOfTheKey) {
+  // The METIS/MADD baselines' tessellation of a real region: areas add up, the CSR is
+  // well formed, and around every corner consecutive sectors belong to different
+  // nodes (each spoke separates two nodes or a node from the outside).
+  const Polygon2 key = make_key_region(2000);
+  for (const bool madd : {false, true}) {
+    const Tessellation t = triangle_tessellation(key, Frame{}, 5000, madd);
+    const CellGraph g = build_cell_graph(t, 1e-5);
+    expect_well_formed(g);
+    EXPECT_EQ(g.node_count(), t.cell_count);  // triangles and MADD groups are never split
+    double node_area = 0, face_area = 0;
+    for (const double a : g.node_area) node_area += a;
+    for (const double a : face_areas(t)) face_area += a;
+    EXPECT_NEAR(node_area, face_area, 1e-12 * face_area);
+    EXPECT_GT(g.corner_position.size(), 0u);
+    for (Index c = 0; c < g.corner_position.size(); ++c) {
+      const auto s = spokes_of(g, c);
+      for (std::size_t k = 0; k < s.size(); ++k)
+        EXPECT_NE(s[k].left_node, s[(k + s.size() - 1) % s.size()].left_node) << "corner " << c;
+    }
+    // Every triangle is a node, so every edge separates: mean = total / edges.
+    EXPECT_GT(g.mean_arc_length, 0);
+  }
 }
 
 TEST(CornerCost, TotalIsSumOfCornersAndLocalUpdatesSuffice) {
