@@ -20,13 +20,6 @@ double polyline_length(const Partition& partition, const PartitionCurve& curve) 
   return length;
 }
 
-// Eq. (3.6) as read in §1.4: distance of theta to the nearest multiple of π/2.
-double deviation_from_right_angle(double theta) {
-  const double quarter = 0.5 * std::numbers::pi;
-  const double r = theta - quarter * std::floor(theta / quarter);
-  return std::min(r, quarter - r);
-}
-
 // A curve leaving a junction: its chord direction and the part on its left
 // (counter-clockwise side), -1 outside the region.
 struct Spoke {
@@ -124,7 +117,7 @@ void measure_partition_geometry(Partition& partition, double region_area, double
       const bool last = s + 1 == end;
       double sector = spokes[last ? begin : s + 1].second.angle - spokes[s].second.angle;
       if (last) sector += 2 * std::numbers::pi;
-      deviation_sum += deviation_from_right_angle(sector);
+      deviation_sum += angle_deviation(sector);
       ++corners;
     }
   }
