@@ -1,0 +1,389 @@
+// Restricted Voronoi diagram of the sites in the domain (design/partition2d.md §2.2):
+// every CDT triangle is clipped against the Voronoi cells meeting it (convex ∩
+// convex, Yan-Wang-Lévy-Liu 2013 style), vertices carry symbolic keys, and every
+// "which side of a bisector" decision is an exact predicate, so neighbouring
+// triangles and neighbouring cells always agree and the pieces tile the domain.
+#include "partition2d/restricted_voronoi_impl.hpp"
+
+#include "structmesh/error.hpp"
+
+#include <CGAL/Delaunay_triangulation_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Exact_rational.h>
+#include <CGAL/Interval_nt.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/partitioner.h>
+
+#include <algorithm>
+#include <array>
+#include <utility>
+
+namespace structmesh::partition2d {
+
+namespace rvd {
+
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_2;
+using VertexBase = CGAL::Triangulation_vertex_base_with_info_2<Index, Kernel>;
+using Tds = CGAL::Triangulation_data_structure_2<VertexBase>;
+using Delaunay = CGAL::Delaunay_triangulation_2<Kernel, Tds>;
+
+constexpr std::size_t kBlockSize = 1024;
+
+// Sign of d(q, x_l)^2 - d(q, x_i)^2 for q = bisector(i, j) ∩ segment [a, b] (§2.2 step
+// 4), multiplied through by D = (b - a)·(x_j - x_i) so it is a polynomial:
+//   q = a + (N'/2D)(b - a),  N' = (x_i + x_j - 2a)·(x_j - x_i),
+//   D·(d_l^2 - d_i^2) = D(|x_l|^2 - |x_i|^2) - (2D a + N'(b - a))·(x_l - x_i).
+template <class FT>
+int edge_bisector_sign(const Vec2& a, const Vec2& b, const Vec2& xi, const Vec2& xj, const Vec2& xl) {
+  const FT ax(a.x()), ay(a.y()), bx(b.x()), by(b.y());
+  const FT ix(xi.x()), iy(xi.y()), jx(xj.x()), jy(xj.y()), lx(xl.x()), ly(xl.y());
+  const FT ex = bx - ax, ey = by - ay;
+  const FT dx = jx - ix, dy = jy - iy;
+  const FT big_d = ex * dx + ey * dy;
+  const FT n = (ix + jx - ax - ax) * dx + (iy + jy - ay - ay) * dy;
+  const FT value = big_d * (lx * lx + ly * ly - ix * ix - iy * iy) -
+                   ((big_d * ax + big_d * ax + n * ex) * (lx - ix) + (big_d * ay + big_d * ay + n * ey) * (ly - iy));
+  // For intervals, converting an uncertain sign throws (the caller then goes exact).
+  const CGAL::Sign sign_d = CGAL::sign(big_d);
+  const CGAL::Sign sign_value = CGAL::sign(value);
+  return static_cast<int>(sign_d) * static_cast<int>(sign_value);
+}
+
+int edge_bisector_sign_exact(const Vec2& a, const Vec2& b, const Vec2& xi, const Vec2& xj, const Vec2& xl) {
+  {
+    CGAL::Protect_FPU_rounding<true> guard;
+    try {
+      return edge_bisector_sign<CGAL::Interval_nt<false>>(a, b, xi, xj, xl);
+    } catch (const CGAL::Uncertain_conversion_exception&) {
+      // The interval contains 0: fall through to exact arithmetic (rounding restored).
+    }
+  }
+  return edge_bisector_sign<CGAL::Exact_rational>(a, b, xi, xj, xl);
+}
+
+}  // namespace
+
+struct Engine::Data {
+  const DomainMesh* domain = nullptr;
+  std::vector<Vec2> sites;
+  std::vector<Point> points;
+  std::vector<Index> neighbor_offsets{0};
+  std::vector<Index> neighbors;
+  Index first_site = kInvalidIndex;  ///< a site present in the Delaunay triangulation
+
+  std::span<const Index> neighbors_of(Index site) const {
+    return {neighbors.data() + neighbor_offsets[site], neighbors.data() + neighbor_offsets[site + 1]};
+  }
+
+  // +1 when q is strictly closer to site c than to site l, 0 on the bisector, -1 when
+  // closer to l. Only exact predicates, so every triangle/cell gets the same answer.
+  int side(const VertexKey& q, Index c, Index l) const {
+    switch (q.kind) {
+      case VertexKey::TriVertex: {
+        const Vec2& v = domain->points[q.a];
+        const CGAL::Comparison_result r = CGAL::compare_distance_to_point(Point(v.x(), v.y()), points[c], points[l]);
+        return r == CGAL::SMALLER ? 1 : r == CGAL::LARGER ? -1 : 0;
+      }
+      case VertexKey::EdgeBisector: {
+        // q is equidistant from both of its sites, c among them.
+        return edge_bisector_sign_exact(domain->points[q.a], domain->points[q.b], sites[q.c], sites[q.d], sites[l]);
+      }
+      default: {
+        // l is closer than the circumcentre's sites iff x_l is inside their circle.
+        const CGAL::Orientation o = CGAL::orientation(points[q.a], points[q.b], points[q.c]);
+        const CGAL::Oriented_side s = CGAL::side_of_oriented_circle(points[q.a], points[q.b], points[q.c], points[l]);
+        return -static_cast<int>(o) * static_cast<int>(s);
+      }
+    }
+  }
+
+  Vec2 position(const VertexKey& key) const {
+    switch (key.kind) {
+      case VertexKey::TriVertex:
+        return domain->points[key.a];
+      case VertexKey::EdgeBisector: {
+        const Vec2& a = domain->points[key.a];
+        const Vec2& b = domain->points[key.b];
+        const Vec2 d = sites[key.d] - sites[key.c];
+        const Vec2 mid = 0.5 * (sites[key.c] + sites[key.d]);
+        const double t = std::clamp((mid - a).dot(d) / (b - a).dot(d), 0.0, 1.0);
+        return a + t * (b - a);
+      }
+      default: {
+        const Vec2& o = sites[key.a];
+        const Vec2 b = sites[key.b] - o, c = sites[key.c] - o;
+        const double twice_cross = 2 * (b.x() * c.y() - b.y() * c.x());
+        const double bb = b.squaredNorm(), cc = c.squaredNorm();
+        return o + Vec2((c.y() * bb - b.y() * cc) / twice_cross, (b.x() * cc - c.x() * bb) / twice_cross);
+      }
+    }
+  }
+
+  // Greedy walk in the Delaunay graph to the owner of q (nearest site, ties to the
+  // lower index): in a Delaunay graph a site with no closer neighbour is the nearest.
+  Index owner(const Vec2& q, Index start) const {
+    const Point pq(q.x(), q.y());
+    Index current = start;
+    for (;;) {
+      Index best = current;
+      for (const Index j : neighbors_of(current)) {
+        const CGAL::Comparison_result r = CGAL::compare_distance_to_point(pq, points[j], points[best]);
+        if (r == CGAL::SMALLER || (r == CGAL::EQUAL && j < best)) best = j;
+      }
+      if (best == current) return current;
+      current = best;
+    }
+  }
+};
+
+namespace {
+
+struct Polygon {
+  std::vector<VertexKey> keys;
+  std::vector<EdgeTag> tags;
+  std::vector<Vec2> positions;
+  void clear() {
+    keys.clear();
+    tags.clear();
+    positions.clear();
+  }
+  void push(const VertexKey& key, const EdgeTag& tag, const Vec2& position) {
+    keys.push_back(key);
+    tags.push_back(tag);
+    positions.push_back(position);
+  }
+};
+
+VertexKey intersection_key(const EdgeTag& crossed, Index c, Index l) {
+  if (!crossed.bisector) {
+    return {VertexKey::EdgeBisector, std::min(crossed.a, crossed.b), std::max(crossed.a, crossed.b), std::min(c, l),
+            std::max(c, l)};
+  }
+  std::array<Index, 3> s{crossed.a, crossed.b, l};
+  std::sort(s.begin(), s.end());
+  return {VertexKey::Voronoi, s[0], s[1], s[2], 0};
+}
+
+}  // namespace
+
+Engine::Engine(const DomainMesh& domain, std::span<const Vec2> sites) : data_(std::make_unique<Data>()) {
+  Data& d = *data_;
+  d.domain = &domain;
+  d.sites.assign(sites.begin(), sites.end());
+  const std::size_t n = sites.size();
+  if (n == 0) throw InputError("restricted Voronoi diagram: no sites");
+  d.points.reserve(n);
+  std::vector<std::pair<Point, Index>> pairs;
+  pairs.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!sites[i].allFinite()) throw Error("restricted Voronoi diagram: site " + std::to_string(i) + " is not finite");
+    d.points.emplace_back(sites[i].x(), sites[i].y());
+    pairs.emplace_back(d.points.back(), static_cast<Index>(i));
+  }
+  Delaunay dt;
+  dt.insert(pairs.begin(), pairs.end());
+  // Duplicate sites: only one of them is a Delaunay vertex; the others stay without
+  // neighbours and are never reached, i.e. they get empty cells.
+  std::vector<std::vector<Index>> lists(n);
+  for (auto v = dt.finite_vertices_begin(); v != dt.finite_vertices_end(); ++v) {
+    std::vector<Index>& list = lists[v->info()];
+    if (d.first_site == kInvalidIndex || v->info() < d.first_site) d.first_site = v->info();
+    auto circulator = dt.incident_vertices(v), done = circulator;
+    if (circulator == nullptr) continue;
+    do {
+      if (!dt.is_infinite(circulator)) list.push_back(circulator->info());
+    } while (++circulator != done);
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+  }
+  d.neighbor_offsets.resize(n + 1);
+  for (std::size_t i = 0; i < n; ++i) d.neighbor_offsets[i + 1] = d.neighbor_offsets[i] + lists[i].size();
+  d.neighbors.reserve(d.neighbor_offsets[n]);
+  for (const auto& list : lists) d.neighbors.insert(d.neighbors.end(), list.begin(), list.end());
+}
+
+Engine::~Engine() = default;
+
+std::size_t Engine::block_count() const { return (data_->domain->triangles.size() + kBlockSize - 1) / kBlockSize; }
+
+Vec2 Engine::position(const VertexKey& key) const { return data_->position(key); }
+
+void Engine::for_each_piece(const std::function<void(std::size_t, const PieceView&)>& visit) const {
+  const Data& d = *data_;
+  const DomainMesh& domain = *d.domain;
+  const std::size_t blocks = block_count();
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, blocks, 1),
+      [&](const tbb::blocked_range<std::size_t>& range) {
+        Polygon piece, clipped;
+        std::vector<Index> stack, seen;
+        std::vector<int> sides;
+        for (std::size_t block = range.begin(); block != range.end(); ++block) {
+          const std::size_t first = block * kBlockSize;
+          const std::size_t last = std::min(first + kBlockSize, domain.triangles.size());
+          Index start = d.first_site;
+          for (std::size_t t = first; t < last; ++t) {
+            const auto& tri = domain.triangles[t];
+            // The cells meeting a triangle form an edge-connected subdivision of it
+            // (triangle and cells are convex), so a flood fill across bisector edges
+            // from the owner of one corner finds them all.
+            start = d.owner(domain.points[tri[0]], start);
+            stack.assign(1, start);
+            seen.assign(1, start);
+            bool found = false;
+            while (!stack.empty()) {
+              const Index c = stack.back();
+              stack.pop_back();
+              piece.clear();
+              for (int k = 0; k < 3; ++k) {
+                piece.push({VertexKey::TriVertex, tri[k], 0, 0, 0}, {false, tri[k], tri[(k + 1) % 3]},
+                           domain.points[tri[k]]);
+              }
+              bool alive = true;
+              const Vec2& xc = d.sites[c];
+              for (const Index l : d.neighbors_of(c)) {
+                // Cheap rejection (1% margin, so never wrong): the bisector cannot
+                // reach a piece within 0.99 of half the site distance of x_c.
+                const double limit = 0.99 * 0.25 * (d.sites[l] - xc).squaredNorm();
+                double reach = 0;
+                for (const Vec2& q : piece.positions) reach = std::max(reach, (q - xc).squaredNorm());
+                if (reach < limit) continue;
+                // Sutherland-Hodgman against the closed half-plane of c (§2.2 step 5).
+                const std::size_t m = piece.keys.size();
+                sides.resize(m);
+                bool inside = false, outside = false;
+                for (std::size_t k = 0; k < m; ++k) {
+                  sides[k] = d.side(piece.keys[k], c, l);
+                  inside = inside || sides[k] > 0;
+                  outside = outside || sides[k] < 0;
+                }
+                if (!outside) continue;
+                // Nothing strictly inside: what is left lies on the bisector line.
+                if (!inside) {
+                  alive = false;
+                  break;
+                }
+                clipped.clear();
+                for (std::size_t k = 0; k < m; ++k) {
+                  const std::size_t next = k + 1 == m ? 0 : k + 1;
+                  const int sa = sides[k], sb = sides[next];
+                  if (sa > 0) {
+                    clipped.push(piece.keys[k], piece.tags[k], piece.positions[k]);
+                  } else if (sa == 0) {
+                    clipped.push(piece.keys[k], sb < 0 ? EdgeTag{true, c, l} : piece.tags[k], piece.positions[k]);
+                  }
+                  if ((sa > 0 && sb < 0) || (sa < 0 && sb > 0)) {
+                    const VertexKey key = intersection_key(piece.tags[k], c, l);
+                    clipped.push(key, sa > 0 ? EdgeTag{true, c, l} : piece.tags[k], d.position(key));
+                  }
+                }
+                std::swap(piece, clipped);
+              }
+              if (!alive) {
+                // Only when the corner's owner touches the triangle in a point or a
+                // segment (exact ties): keep searching through its neighbours.
+                if (!found) {
+                  for (const Index l : d.neighbors_of(c)) {
+                    if (std::find(seen.begin(), seen.end(), l) == seen.end()) seen.push_back(l), stack.push_back(l);
+                  }
+                }
+                continue;
+              }
+              found = true;
+              visit(block, PieceView{static_cast<Index>(t), c, piece.keys, piece.tags, piece.positions});
+              for (const EdgeTag& tag : piece.tags) {
+                if (tag.bisector && std::find(seen.begin(), seen.end(), tag.b) == seen.end()) {
+                  seen.push_back(tag.b);
+                  stack.push_back(tag.b);
+                }
+              }
+            }
+          }
+        }
+      },
+      tbb::simple_partitioner());
+}
+
+}  // namespace rvd
+
+Tessellation restricted_voronoi(const DomainMesh& domain, std::span<const Vec2> sites) {
+  const rvd::Engine engine(domain, sites);
+  struct Block {
+    std::vector<rvd::VertexKey> keys;
+    std::vector<Index> sizes;
+    std::vector<Index> cells;
+  };
+  std::vector<Block> blocks(engine.block_count());
+  engine.for_each_piece([&](std::size_t block, const rvd::PieceView& piece) {
+    Block& out = blocks[block];
+    out.keys.insert(out.keys.end(), piece.keys.begin(), piece.keys.end());
+    out.sizes.push_back(static_cast<Index>(piece.keys.size()));
+    out.cells.push_back(piece.site);
+  });
+
+  // Global vertex ids by deduplicating keys (§2.2 step 3).
+  std::vector<rvd::VertexKey> unique;
+  for (const Block& block : blocks) unique.insert(unique.end(), block.keys.begin(), block.keys.end());
+  std::sort(unique.begin(), unique.end());
+  unique.erase(std::unique(unique.begin(), unique.end()), unique.end());
+
+  Tessellation tessellation;
+  tessellation.cell_count = sites.size();
+  tessellation.vertices.resize(unique.size());
+  tessellation.input_vertex.assign(unique.size(), -1);
+  tbb::parallel_for(std::size_t{0}, unique.size(), [&](std::size_t v) {
+    tessellation.vertices[v] = engine.position(unique[v]);
+    if (unique[v].kind == rvd::VertexKey::TriVertex && unique[v].a < domain.input_point_count) {
+      tessellation.input_vertex[v] = unique[v].a;
+    }
+  });
+  for (const Block& block : blocks) {
+    std::size_t k = 0;
+    for (std::size_t f = 0; f < block.sizes.size(); ++f) {
+      for (Index i = 0; i < block.sizes[f]; ++i, ++k) {
+        const auto it = std::lower_bound(unique.begin(), unique.end(), block.keys[k]);
+        tessellation.face_vertices.push_back(static_cast<Index>(it - unique.begin()));
+      }
+      tessellation.face_offsets.push_back(static_cast<Index>(tessellation.face_vertices.size()));
+      tessellation.face_cell.push_back(block.cells[f]);
+    }
+  }
+
+  // Twins: half-edges sorted by their unordered vertex pair. Pieces on both sides of
+  // a CDT edge or a bisector cut it at the same keyed points, so pairs match exactly.
+  const std::size_t half_edges = tessellation.face_vertices.size();
+  struct Half {
+    Index low, high, half_edge;
+  };
+  std::vector<Half> halves(half_edges);
+  for (Index f = 0; f < tessellation.face_count(); ++f) {
+    for (Index h = tessellation.face_offsets[f]; h < tessellation.face_offsets[f + 1]; ++h) {
+      const Index a = tessellation.face_vertices[h], b = tessellation.face_vertices[tessellation.next(h, f)];
+      halves[h] = {std::min(a, b), std::max(a, b), h};
+    }
+  }
+  std::sort(halves.begin(), halves.end(), [](const Half& x, const Half& y) {
+    return x.low != y.low ? x.low < y.low : x.high != y.high ? x.high < y.high : x.half_edge < y.half_edge;
+  });
+  tessellation.twin.assign(half_edges, kInvalidIndex);
+  for (std::size_t i = 0; i < halves.size();) {
+    std::size_t j = i + 1;
+    while (j < halves.size() && halves[j].low == halves[i].low && halves[j].high == halves[i].high) ++j;
+    if (j - i == 2) {
+      tessellation.twin[halves[i].half_edge] = halves[i + 1].half_edge;
+      tessellation.twin[halves[i + 1].half_edge] = halves[i].half_edge;
+    } else if (j - i > 2) {
+      throw Error("restricted Voronoi diagram: " + std::to_string(j - i) + " pieces share an edge (degenerate sites)");
+    }
+    i = j;
+  }
+  tessellation.boundary_ring.assign(half_edges, -1);
+  return tessellation;
+}
+
+}  // namespace structmesh::partition2d
