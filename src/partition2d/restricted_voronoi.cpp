@@ -14,6 +14,7 @@
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/parallel_sort.h>
 #include <oneapi/tbb/partitioner.h>
 
 #include <algorithm>
@@ -353,6 +354,7 @@ Tessellation restricted_voronoi(const DomainMesh& domain, std::span<const Vec2> 
   const rvd::Engine engine(domain, sites);
   struct Block {
     std::vector<rvd::VertexKey> keys;
+    std::vector<std::uint8_t> on_boundary;  ///< per half-edge: on a region-boundary CDT edge
     std::vector<Index> sizes;
     std::vector<Index> cells;
   };
@@ -360,14 +362,31 @@ Tessellation restricted_voronoi(const DomainMesh& domain, std::span<const Vec2> 
   engine.for_each_piece([&](std::size_t block, const rvd::PieceView& piece) {
     Block& out = blocks[block];
     out.keys.insert(out.keys.end(), piece.keys.begin(), piece.keys.end());
+    const auto& tri = domain.triangles[piece.triangle];
+    for (const rvd::EdgeTag& tag : piece.tags) {
+      bool boundary = false;
+      for (int k = 0; k < 3 && !tag.bisector; ++k) {
+        boundary = boundary || (tri[k] == tag.a && domain.neighbors[piece.triangle][k] == kInvalidIndex);
+      }
+      out.on_boundary.push_back(boundary ? 1 : 0);
+    }
     out.sizes.push_back(static_cast<Index>(piece.keys.size()));
     out.cells.push_back(piece.site);
   });
+  // Where each block's faces and half-edges start in the output.
+  std::vector<std::size_t> key_start(blocks.size() + 1, 0), face_start(blocks.size() + 1, 0);
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    key_start[b + 1] = key_start[b] + blocks[b].keys.size();
+    face_start[b + 1] = face_start[b] + blocks[b].sizes.size();
+  }
 
-  // Global vertex ids by deduplicating keys (§2.2 step 3).
-  std::vector<rvd::VertexKey> unique;
-  for (const Block& block : blocks) unique.insert(unique.end(), block.keys.begin(), block.keys.end());
-  std::sort(unique.begin(), unique.end());
+  // Global vertex ids by deduplicating keys (§2.2 step 3). Keys are totally ordered,
+  // so the parallel sort gives the same result whatever the threads.
+  std::vector<rvd::VertexKey> unique(key_start.back());
+  tbb::parallel_for(std::size_t{0}, blocks.size(), [&](std::size_t b) {
+    std::copy(blocks[b].keys.begin(), blocks[b].keys.end(), unique.begin() + static_cast<std::ptrdiff_t>(key_start[b]));
+  });
+  tbb::parallel_sort(unique.begin(), unique.end());
   unique.erase(std::unique(unique.begin(), unique.end()), unique.end());
 
   Tessellation tessellation;
@@ -380,43 +399,49 @@ Tessellation restricted_voronoi(const DomainMesh& domain, std::span<const Vec2> 
       tessellation.input_vertex[v] = unique[v].a;
     }
   });
-  for (const Block& block : blocks) {
-    std::size_t k = 0;
-    for (std::size_t f = 0; f < block.sizes.size(); ++f) {
-      for (Index i = 0; i < block.sizes[f]; ++i, ++k) {
-        const auto it = std::lower_bound(unique.begin(), unique.end(), block.keys[k]);
-        tessellation.face_vertices.push_back(static_cast<Index>(it - unique.begin()));
-      }
-      tessellation.face_offsets.push_back(static_cast<Index>(tessellation.face_vertices.size()));
-      tessellation.face_cell.push_back(block.cells[f]);
+  const std::size_t half_edges = key_start.back();
+  tessellation.face_vertices.resize(half_edges);
+  tessellation.face_offsets.resize(face_start.back() + 1);
+  tessellation.face_cell.resize(face_start.back());
+  std::vector<std::uint8_t> on_boundary(half_edges);
+  tbb::parallel_for(std::size_t{0}, blocks.size(), [&](std::size_t b) {
+    const Block& block = blocks[b];
+    std::size_t h = key_start[b];
+    for (std::size_t k = 0; k < block.keys.size(); ++k, ++h) {
+      const auto it = std::lower_bound(unique.begin(), unique.end(), block.keys[k]);
+      tessellation.face_vertices[h] = static_cast<Index>(it - unique.begin());
+      on_boundary[h] = block.on_boundary[k];
     }
-  }
+    h = key_start[b];
+    for (std::size_t f = 0; f < block.sizes.size(); ++f) {
+      h += block.sizes[f];
+      tessellation.face_offsets[face_start[b] + f + 1] = static_cast<Index>(h);
+      tessellation.face_cell[face_start[b] + f] = block.cells[f];
+    }
+  });
 
   // Twins: half-edges sorted by their unordered vertex pair. Pieces on both sides of
   // a CDT edge or a bisector cut it at the same keyed points, so pairs match exactly.
-  const std::size_t half_edges = tessellation.face_vertices.size();
-  struct Half {
-    Index low, high, half_edge;
-  };
-  std::vector<Half> halves(half_edges);
-  for (Index f = 0; f < tessellation.face_count(); ++f) {
+  std::vector<std::pair<std::uint64_t, Index>> halves(half_edges);
+  tbb::parallel_for(Index{0}, static_cast<Index>(tessellation.face_count()), [&](Index f) {
     for (Index h = tessellation.face_offsets[f]; h < tessellation.face_offsets[f + 1]; ++h) {
       const Index a = tessellation.face_vertices[h], b = tessellation.face_vertices[tessellation.next(h, f)];
-      halves[h] = {std::min(a, b), std::max(a, b), h};
+      halves[h] = {(std::uint64_t{std::min(a, b)} << 32) | std::max(a, b), h};
     }
-  }
-  std::sort(halves.begin(), halves.end(), [](const Half& x, const Half& y) {
-    return x.low != y.low ? x.low < y.low : x.high != y.high ? x.high < y.high : x.half_edge < y.half_edge;
   });
+  tbb::parallel_sort(halves.begin(), halves.end());
   tessellation.twin.assign(half_edges, kInvalidIndex);
   for (std::size_t i = 0; i < halves.size();) {
     std::size_t j = i + 1;
-    while (j < halves.size() && halves[j].low == halves[i].low && halves[j].high == halves[i].high) ++j;
+    while (j < halves.size() && halves[j].first == halves[i].first) ++j;
     if (j - i == 2) {
-      tessellation.twin[halves[i].half_edge] = halves[i + 1].half_edge;
-      tessellation.twin[halves[i + 1].half_edge] = halves[i].half_edge;
-    } else if (j - i > 2) {
-      throw Error("restricted Voronoi diagram: " + std::to_string(j - i) + " pieces share an edge (degenerate sites)");
+      tessellation.twin[halves[i].second] = halves[i + 1].second;
+      tessellation.twin[halves[i + 1].second] = halves[i].second;
+    } else if (j - i > 2 || !on_boundary[halves[i].second]) {
+      // Cannot happen with consistent predicates; a bug or an exact degeneracy that
+      // the symbolic rules do not cover (e.g. a Voronoi vertex exactly on a CDT edge).
+      throw Error("restricted Voronoi diagram: not conforming (" + std::to_string(j - i) +
+                  " pieces share an edge); perturb the sites slightly");
     }
     i = j;
   }
