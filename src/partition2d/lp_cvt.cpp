@@ -13,6 +13,7 @@
 #include <limits>
 #include <optional>
 #include <stdexcept>
+#include <utility>
 
 namespace structmesh::partition2d {
 
@@ -35,9 +36,11 @@ Homogeneous homogeneous(double a, double b, double c, int p) {
   return {previous, h3};
 }
 
+// x^p for even p.
 double power(double x, int p) {
-  double r = 1;
-  for (int k = 0; k < p; ++k) r *= x;
+  const double square = x * x;
+  double r = square;
+  for (int k = 2; k < p; k += 2) r *= square;
   return r;
 }
 
@@ -226,10 +229,8 @@ LpCvtResult optimise_lp_cvt(const DomainMesh& domain, std::vector<Vec2> sites, c
     if (f < best_energy) best_energy = f, best_x = point, best_empty = empty, ++improvements;
     return f;
   };
-  {
-    Eigen::VectorXd grad(2 * n);
-    result.energy_initial = energy(x, grad);
-  }
+  Eigen::VectorXd initial_gradient(2 * n);
+  result.energy_initial = energy(x, initial_gradient);
 
   LBFGSpp::LBFGSParam<double> param;  // must outlive the solver (held by reference)
   param.m = 8;
@@ -242,11 +243,17 @@ LpCvtResult optimise_lp_cvt(const DomainMesh& domain, std::vector<Vec2> sites, c
   param.max_linesearch = 40;
   LBFGSpp::LBFGSSolver<double, LBFGSpp::LineSearchBacktracking> solver(param);
   double fx = 0;
-  // Iteration counting for the progress bar: the solver has no callback, so count
-  // gradient evaluations against the budget instead.
+  // The solver's first evaluation is the starting point, already evaluated above.
+  // Progress: the solver has no callback; every accepted step decreases F, so the
+  // number of improvements of the best point tracks the iterations.
+  bool first_call = true;
   const auto counted = [&](const Eigen::VectorXd& point, Eigen::VectorXd& grad) {
+    if (std::exchange(first_call, false) && point == best_x) {
+      grad = initial_gradient;
+      return result.energy_initial;
+    }
     const double f = energy(point, grad);
-    if (progress) progress->advance();
+    if (progress) progress->set(static_cast<std::uint64_t>(std::max(improvements - 1, 0)));
     return f;
   };
   try {

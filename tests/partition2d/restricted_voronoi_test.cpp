@@ -3,6 +3,8 @@
 // nearest site, holes can cut a cell, and the output does not depend on the threads.
 #include "partition2d/partition_internal.hpp"
 
+#include "structmesh/regions.hpp"
+
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
@@ -177,6 +179,31 @@ TEST(RestrictedVoronoi, SiteOutsideDomainHasNoFaces) {
   for (Index f = 0; f < t.face_count(); ++f) {
     EXPECT_NE(t.face_cell[f], 3u);
     EXPECT_NE(t.face_cell[f], 4u);  // a duplicate site: the lower index owns the cell
+  }
+}
+
+TEST(RestrictedVoronoi, KeyRegionAfterOptimisation) {
+  // Real data: the built-in key region in the normalised frame of 150 cells, sites
+  // after a few L-BFGS iterations (close to a converged, near-grid L_8-CVT).
+  const Polygon2 key = make_key_region(1500);
+  Frame frame;
+  const BoundingBox2 box = key.bounding_box();
+  frame.center = 0.5 * (box.min + box.max);
+  frame.scale = std::sqrt(area(key) / 150.0);
+  const DomainMesh domain = build_domain_mesh(key, frame, 0.5 * frame.scale);
+  LpCvtOptions options;
+  options.max_iterations = 15;
+  const LpCvtResult result = optimise_lp_cvt(domain, initial_grid_sites(domain, 150, 0), options);
+  EXPECT_LT(result.energy_final, result.energy_initial);
+  EXPECT_EQ(result.empty_cells, 0u);
+  const Tessellation t = restricted_voronoi(domain, result.sites);
+  Polygon2 normalised = key;
+  for (Vec2& q : normalised.points) q = frame.to_normalised(q);
+  expect_valid_rvd(normalised, domain, result.sites, t);
+  for (Index v = 0; v < t.vertices.size(); ++v) {
+    if (t.input_vertex[v] >= 0) {
+      EXPECT_LT(static_cast<std::size_t>(t.input_vertex[v]), key.points.size());
+    }
   }
 }
 
