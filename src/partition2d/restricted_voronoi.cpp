@@ -249,6 +249,40 @@ std::size_t Engine::block_count() const { return (data_->domain->triangles.size(
 
 Vec2 Engine::position(const VertexKey& key) const { return data_->position(key); }
 
+VertexKey Engine::canonical(const VertexKey& key) const {
+  const Data& d = *data_;
+  std::array<Index, 3> triple{key.a, key.b, key.c};
+  if (key.kind == VertexKey::TriVertex) return key;
+  if (key.kind == VertexKey::EdgeBisector) {
+    // A third equidistant site is then a Delaunay neighbour of site c: the sites on
+    // the empty circle around the point form a convex polygon of Delaunay edges.
+    const Vec2& a = d.domain->points[key.a];
+    const Vec2& b = d.domain->points[key.b];
+    Index third = kInvalidIndex;
+    for (const Index k : d.neighbors_of(key.c)) {
+      if (k == key.d) continue;
+      if (edge_bisector_sign(a, b, d.sites[key.c], d.sites[key.d], d.sites[k]) == 0) {
+        third = k;
+        break;
+      }
+    }
+    if (third == kInvalidIndex) return key;
+    triple = {key.c, key.d, third};
+    std::sort(triple.begin(), triple.end());
+  }
+  // All sites on the circle through the triple, by growing along Delaunay edges.
+  std::vector<Index> circle(triple.begin(), triple.end());
+  const Point &p0 = d.points[triple[0]], &p1 = d.points[triple[1]], &p2 = d.points[triple[2]];
+  for (std::size_t i = 0; i < circle.size(); ++i) {
+    for (const Index k : d.neighbors_of(circle[i])) {
+      if (std::find(circle.begin(), circle.end(), k) != circle.end()) continue;
+      if (CGAL::side_of_oriented_circle(p0, p1, p2, d.points[k]) == CGAL::ON_ORIENTED_BOUNDARY) circle.push_back(k);
+    }
+  }
+  std::partial_sort(circle.begin(), circle.begin() + 3, circle.end());
+  return {VertexKey::Voronoi, circle[0], circle[1], circle[2], 0};
+}
+
 void Engine::for_each_piece(const std::function<void(std::size_t, const PieceView&)>& visit) const {
   const Data& d = *data_;
   const DomainMesh& domain = *d.domain;
@@ -388,15 +422,29 @@ Tessellation restricted_voronoi(const DomainMesh& domain, std::span<const Vec2> 
   });
   tbb::parallel_sort(unique.begin(), unique.end());
   unique.erase(std::unique(unique.begin(), unique.end()), unique.end());
+  // One name per point under exact degeneracies (see Engine::canonical); without
+  // them (the normal case, thanks to the jitter) every key is already canonical.
+  std::vector<rvd::VertexKey> renamed(unique.size());
+  tbb::parallel_for(std::size_t{0}, unique.size(), [&](std::size_t v) { renamed[v] = engine.canonical(unique[v]); });
+  std::vector<Index> vertex_of(unique.size());
+  {
+    std::vector<rvd::VertexKey> names = renamed;
+    tbb::parallel_sort(names.begin(), names.end());
+    names.erase(std::unique(names.begin(), names.end()), names.end());
+    tbb::parallel_for(std::size_t{0}, unique.size(), [&](std::size_t v) {
+      vertex_of[v] = static_cast<Index>(std::lower_bound(names.begin(), names.end(), renamed[v]) - names.begin());
+    });
+    renamed = std::move(names);
+  }
 
   Tessellation tessellation;
   tessellation.cell_count = sites.size();
-  tessellation.vertices.resize(unique.size());
-  tessellation.input_vertex.assign(unique.size(), -1);
-  tbb::parallel_for(std::size_t{0}, unique.size(), [&](std::size_t v) {
-    tessellation.vertices[v] = engine.position(unique[v]);
-    if (unique[v].kind == rvd::VertexKey::TriVertex && unique[v].a < domain.input_point_count) {
-      tessellation.input_vertex[v] = unique[v].a;
+  tessellation.vertices.resize(renamed.size());
+  tessellation.input_vertex.assign(renamed.size(), -1);
+  tbb::parallel_for(std::size_t{0}, renamed.size(), [&](std::size_t v) {
+    tessellation.vertices[v] = engine.position(renamed[v]);
+    if (renamed[v].kind == rvd::VertexKey::TriVertex && renamed[v].a < domain.input_point_count) {
+      tessellation.input_vertex[v] = renamed[v].a;
     }
   });
   const std::size_t half_edges = key_start.back();
@@ -409,7 +457,7 @@ Tessellation restricted_voronoi(const DomainMesh& domain, std::span<const Vec2> 
     std::size_t h = key_start[b];
     for (std::size_t k = 0; k < block.keys.size(); ++k, ++h) {
       const auto it = std::lower_bound(unique.begin(), unique.end(), block.keys[k]);
-      tessellation.face_vertices[h] = static_cast<Index>(it - unique.begin());
+      tessellation.face_vertices[h] = vertex_of[static_cast<std::size_t>(it - unique.begin())];
       on_boundary[h] = block.on_boundary[k];
     }
     h = key_start[b];

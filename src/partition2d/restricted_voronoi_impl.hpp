@@ -61,6 +61,14 @@ class Engine {
 
   Vec2 position(const VertexKey& key) const;
 
+  /// The key of the same point under the canonical naming for exact degeneracies
+  /// (one name per point): a point equidistant from three or more sites (several
+  /// co-circular sites, or a Voronoi vertex exactly on a CDT edge) becomes Voronoi of
+  /// the three lowest such sites. Only valid for vertices of the final diagram (no
+  /// site strictly closer), which is all restricted_voronoi needs; the clipping
+  /// itself never needs it, since exact predicates already give consistent pieces.
+  VertexKey canonical(const VertexKey& key) const;
+
  private:
   struct Data;
   std::unique_ptr<Data> data_;

@@ -124,18 +124,26 @@ TEST(RestrictedVoronoi, TilesSquareWithHole) {
 }
 
 TEST(RestrictedVoronoi, ExactGridAndTiesStillTile) {
-  // Sites on an exact grid (four co-circular sites everywhere) and on domain
-  // vertices: the symbolic tie rule keeps the tiling conforming.
+  // Sites on an exact grid (four co-circular sites at every Voronoi vertex), Voronoi
+  // vertices on CDT vertices (spacing 0.5), on CDT edges (the diagonals without
+  // Steiner points) or inside triangles, and a site on a domain vertex: the tie
+  // rules keep the tiling conforming with one vertex per point.
   Polygon2 region;
   region.add_ring(std::vector<Vec2>{{0, 0}, {3, 0}, {3, 3}, {0, 3}});
-  const DomainMesh domain = build_domain_mesh(region, Frame{}, 0.5);
-  std::vector<Vec2> sites;
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) sites.emplace_back(0.5 + i, 0.5 + j);
+  for (const double spacing : {0.0, 0.5, 0.7}) {
+    const DomainMesh domain = build_domain_mesh(region, Frame{}, spacing);
+    std::vector<Vec2> sites;
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) sites.emplace_back(0.5 + i, 0.5 + j);
+    }
+    sites.emplace_back(0, 0);
+    const Tessellation t = restricted_voronoi(domain, sites);
+    expect_valid_rvd(region, domain, sites, t);
+    // Each of the four degree-4 Voronoi vertices is one vertex of the tessellation.
+    for (const Vec2& corner : {Vec2(1, 1), Vec2(1, 2), Vec2(2, 1), Vec2(2, 2)}) {
+      EXPECT_EQ(std::count(t.vertices.begin(), t.vertices.end(), corner), 1) << spacing;
+    }
   }
-  sites.emplace_back(0, 0);
-  const Tessellation t = restricted_voronoi(domain, sites);
-  expect_valid_rvd(region, domain, sites, t);
 }
 
 TEST(RestrictedVoronoi, HoleCutsCellInTwo) {
