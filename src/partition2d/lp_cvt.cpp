@@ -179,23 +179,25 @@ std::vector<Vec2> initial_grid_sites(const DomainMesh& domain, std::size_t count
   // corrections absorb the boundary effect.
   double h = std::sqrt(domain.area / static_cast<double>(count));
   std::vector<Vec2> best;
-  for (int attempt = 0; attempt < 6; ++attempt) {
+  double best_h = h;
+  const auto miss = [&](std::size_t found) {
+    return std::abs(static_cast<double>(found) - static_cast<double>(count));
+  };
+  for (int attempt = 0; attempt < 8; ++attempt) {
     const Vec2 extent = high - low;
     const auto columns = static_cast<std::size_t>(std::floor(extent.x() / h)) + 1;
     const auto rows = static_cast<std::size_t>(std::floor(extent.y() / h)) + 1;
     const Vec2 origin = 0.5 * (low + high) - 0.5 * h * Vec2(static_cast<double>(columns), static_cast<double>(rows));
     std::vector<Vec2> points = grid_points_inside(domain, origin, h, columns, rows);
-    const auto distance = [&](std::size_t found) { return std::abs(static_cast<double>(found) - count); };
-    if (best.empty() || distance(points.size()) < distance(best.size())) best = std::move(points);
-    if (distance(best.size()) <= 0.01 * static_cast<double>(count)) break;
-    h *= std::sqrt(std::max<double>(static_cast<double>(best.size()), 1.0) / static_cast<double>(count));
-    // The jitter below is relative to the spacing actually used.
-    if (best.size() == count) break;
+    const std::size_t found = points.size();
+    if (best.empty() || miss(found) < miss(best.size())) best = std::move(points), best_h = h;
+    if (miss(found) <= std::max(1.0, 0.01 * static_cast<double>(count))) break;
+    h *= std::sqrt(std::max<double>(static_cast<double>(found), 1.0) / static_cast<double>(count));
   }
   if (best.empty()) throw InputError("initial sites: no grid point inside the domain");
   // §2.2 step 4: a perfect grid is co-circular everywhere; jitter by 1e-6 of the
   // spacing, deterministically from (seed, index).
-  const double amplitude = 1e-6 * std::sqrt(domain.area / static_cast<double>(best.size()));
+  const double amplitude = 1e-6 * best_h;
   for (std::size_t i = 0; i < best.size(); ++i) {
     const std::uint64_t r = splitmix64(seed * 0x100000001b3ULL ^ splitmix64(i));
     const double jx = static_cast<double>(r & 0xffffffffULL) / 4294967296.0 - 0.5;

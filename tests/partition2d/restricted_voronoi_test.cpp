@@ -215,6 +215,21 @@ TEST(RestrictedVoronoi, KeyRegionAfterOptimisation) {
   }
 }
 
+TEST(RestrictedVoronoi, FewAndCollinearSites) {
+  // One-dimensional Delaunay triangulations (collinear sites) and a single site.
+  Polygon2 region;
+  region.add_ring(std::vector<Vec2>{{0, 0}, {1, 0}, {1, 1}, {0, 1}});
+  const DomainMesh domain = build_domain_mesh(region, Frame{}, 0.3);
+  for (const std::vector<Vec2>& sites : {std::vector<Vec2>{{0.2, 0.5}, {0.5, 0.5}, {0.8, 0.5}},
+                                         std::vector<Vec2>{{0.2, 0.5}, {0.7, 0.6}}, std::vector<Vec2>{{0.2, 0.5}}}) {
+    const Tessellation t = restricted_voronoi(domain, sites);
+    expect_valid_rvd(region, domain, sites, t);
+    std::size_t empty = 1;
+    lp_energy(domain, sites, 8, nullptr, &empty);
+    EXPECT_EQ(empty, 0u);
+  }
+}
+
 TEST(RestrictedVoronoi, DeterministicAndThreadCountIndependent) {
   const Polygon2 region = square_with_hole(20, {5, 4}, {11, 13});
   const DomainMesh domain = build_domain_mesh(region, Frame{}, 0.25);
