@@ -414,50 +414,29 @@ Tessellation restricted_voronoi(const DomainMesh& domain, std::span<const Vec2> 
     face_start[b + 1] = face_start[b] + blocks[b].sizes.size();
   }
 
-  // Global vertex ids by deduplicating keys (§2.2 step 3). Keys are totally ordered,
-  // so the parallel sort gives the same result whatever the threads.
-  std::vector<rvd::VertexKey> unique(key_start.back());
-  tbb::parallel_for(std::size_t{0}, blocks.size(), [&](std::size_t b) {
-    std::copy(blocks[b].keys.begin(), blocks[b].keys.end(), unique.begin() + static_cast<std::ptrdiff_t>(key_start[b]));
-  });
-  tbb::parallel_sort(unique.begin(), unique.end());
-  unique.erase(std::unique(unique.begin(), unique.end()), unique.end());
-  // One name per point under exact degeneracies (see Engine::canonical); without
-  // them (the normal case, thanks to the jitter) every key is already canonical.
-  std::vector<rvd::VertexKey> renamed(unique.size());
-  tbb::parallel_for(std::size_t{0}, unique.size(), [&](std::size_t v) { renamed[v] = engine.canonical(unique[v]); });
-  std::vector<Index> vertex_of(unique.size());
-  {
-    std::vector<rvd::VertexKey> names = renamed;
-    tbb::parallel_sort(names.begin(), names.end());
-    names.erase(std::unique(names.begin(), names.end()), names.end());
-    tbb::parallel_for(std::size_t{0}, unique.size(), [&](std::size_t v) {
-      vertex_of[v] = static_cast<Index>(std::lower_bound(names.begin(), names.end(), renamed[v]) - names.begin());
-    });
-    renamed = std::move(names);
-  }
-
+  // Global vertex ids by deduplicating keys (§2.2 step 3): sort (key, half-edge)
+  // pairs, number the distinct keys in order. The pairs are totally ordered, so the
+  // parallel sort gives the same result whatever the threads.
+  const std::size_t half_edges = key_start.back();
+  struct Entry {
+    rvd::VertexKey key;
+    Index half_edge;
+    bool operator<(const Entry& other) const {
+      return key != other.key ? key < other.key : half_edge < other.half_edge;
+    }
+  };
+  std::vector<Entry> entries(half_edges);
+  std::vector<std::uint8_t> on_boundary(half_edges);
   Tessellation tessellation;
   tessellation.cell_count = sites.size();
-  tessellation.vertices.resize(renamed.size());
-  tessellation.input_vertex.assign(renamed.size(), -1);
-  tbb::parallel_for(std::size_t{0}, renamed.size(), [&](std::size_t v) {
-    tessellation.vertices[v] = engine.position(renamed[v]);
-    if (renamed[v].kind == rvd::VertexKey::TriVertex && renamed[v].a < domain.input_point_count) {
-      tessellation.input_vertex[v] = renamed[v].a;
-    }
-  });
-  const std::size_t half_edges = key_start.back();
   tessellation.face_vertices.resize(half_edges);
   tessellation.face_offsets.resize(face_start.back() + 1);
   tessellation.face_cell.resize(face_start.back());
-  std::vector<std::uint8_t> on_boundary(half_edges);
   tbb::parallel_for(std::size_t{0}, blocks.size(), [&](std::size_t b) {
     const Block& block = blocks[b];
     std::size_t h = key_start[b];
     for (std::size_t k = 0; k < block.keys.size(); ++k, ++h) {
-      const auto it = std::lower_bound(unique.begin(), unique.end(), block.keys[k]);
-      tessellation.face_vertices[h] = vertex_of[static_cast<std::size_t>(it - unique.begin())];
+      entries[h] = {block.keys[k], static_cast<Index>(h)};
       on_boundary[h] = block.on_boundary[k];
     }
     h = key_start[b];
@@ -465,6 +444,37 @@ Tessellation restricted_voronoi(const DomainMesh& domain, std::span<const Vec2> 
       h += block.sizes[f];
       tessellation.face_offsets[face_start[b] + f + 1] = static_cast<Index>(h);
       tessellation.face_cell[face_start[b] + f] = block.cells[f];
+    }
+  });
+  blocks.clear();
+  tbb::parallel_sort(entries.begin(), entries.end());
+  std::vector<rvd::VertexKey> unique;
+  for (const Entry& entry : entries) {
+    if (unique.empty() || unique.back() != entry.key) unique.push_back(entry.key);
+    tessellation.face_vertices[entry.half_edge] = static_cast<Index>(unique.size() - 1);
+  }
+  entries = {};
+  // One name per point under exact degeneracies (see Engine::canonical); without
+  // them (the normal case, thanks to the jitter) every key is already canonical.
+  std::vector<rvd::VertexKey> names(unique.size());
+  tbb::parallel_for(std::size_t{0}, unique.size(), [&](std::size_t v) { names[v] = engine.canonical(unique[v]); });
+  if (names != unique) {
+    std::vector<rvd::VertexKey> renamed = names;
+    tbb::parallel_sort(renamed.begin(), renamed.end());
+    renamed.erase(std::unique(renamed.begin(), renamed.end()), renamed.end());
+    std::vector<Index> vertex_of(unique.size());
+    tbb::parallel_for(std::size_t{0}, unique.size(), [&](std::size_t v) {
+      vertex_of[v] = static_cast<Index>(std::lower_bound(renamed.begin(), renamed.end(), names[v]) - renamed.begin());
+    });
+    for (Index& v : tessellation.face_vertices) v = vertex_of[v];
+    names = std::move(renamed);
+  }
+  tessellation.vertices.resize(names.size());
+  tessellation.input_vertex.assign(names.size(), -1);
+  tbb::parallel_for(std::size_t{0}, names.size(), [&](std::size_t v) {
+    tessellation.vertices[v] = engine.position(names[v]);
+    if (names[v].kind == rvd::VertexKey::TriVertex && names[v].a < domain.input_point_count) {
+      tessellation.input_vertex[v] = names[v].a;
     }
   });
 
@@ -486,8 +496,8 @@ Tessellation restricted_voronoi(const DomainMesh& domain, std::span<const Vec2> 
       tessellation.twin[halves[i].second] = halves[i + 1].second;
       tessellation.twin[halves[i + 1].second] = halves[i].second;
     } else if (j - i > 2 || !on_boundary[halves[i].second]) {
-      // Cannot happen with consistent predicates; a bug or an exact degeneracy that
-      // the symbolic rules do not cover (e.g. a Voronoi vertex exactly on a CDT edge).
+      // Cannot happen with consistent predicates and canonical names: a bug, or an
+      // exact degeneracy that the naming rules miss.
       throw Error("restricted Voronoi diagram: not conforming (" + std::to_string(j - i) +
                   " pieces share an edge); perturb the sites slightly");
     }
