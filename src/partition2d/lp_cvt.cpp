@@ -44,11 +44,36 @@ double power(double x, int p) {
   return r;
 }
 
-// 5-point Gauss-Legendre on [-1, 1], exact to degree 9 = p + 1 for p = 8 (§2.3).
-constexpr std::array<double, 5> kGaussNodes{0.0, -0.5384693101056831, 0.5384693101056831, -0.9061798459386640,
-                                            0.9061798459386640};
-constexpr std::array<double, 5> kGaussWeights{0.5688888888888889, 0.4786286704993665, 0.4786286704993665,
-                                              0.2369268850561891, 0.2369268850561891};
+// Gauss-Legendre rule on [-1, 1] with p/2 + 1 points, exact to degree p + 1, the
+// degree of the bisector integrand (§2.3: 5 points for p = 8). Nodes by Newton's
+// method on the Legendre polynomial from Chebyshev guesses.
+struct GaussRule {
+  std::vector<double> nodes, weights;
+};
+GaussRule gauss_legendre(int points) {
+  constexpr double kPi = 3.14159265358979323846;
+  GaussRule rule;
+  for (int i = 0; i < points; ++i) {
+    double x = std::cos(kPi * (i + 0.75) / (points + 0.5));
+    double derivative = 1;
+    for (int iteration = 0; iteration < 100; ++iteration) {
+      // P_n(x) and P_n'(x) by the three-term recurrence.
+      double p0 = 1, p1 = x;
+      for (int n = 2; n <= points; ++n) {
+        const double p2 = ((2 * n - 1) * x * p1 - (n - 1) * p0) / n;
+        p0 = p1;
+        p1 = p2;
+      }
+      derivative = points * (x * p1 - p0) / (x * x - 1);
+      const double step = p1 / derivative;
+      x -= step;
+      if (std::abs(step) < 1e-16) break;
+    }
+    rule.nodes.push_back(x);
+    rule.weights.push_back(2 / ((1 - x * x) * derivative * derivative));
+  }
+  return rule;
+}
 
 struct Contribution {
   Index site;
@@ -56,7 +81,8 @@ struct Contribution {
 };
 
 // Energy and gradient of one piece of cell c (eq. 3.12 and §1.7).
-Contribution piece_contribution(const rvd::PieceView& piece, std::span<const Vec2> sites, int p, bool gradient) {
+Contribution piece_contribution(const rvd::PieceView& piece, std::span<const Vec2> sites, int p, bool gradient,
+                                const GaussRule& gauss) {
   const Vec2& xc = sites[piece.site];
   const std::size_t m = piece.positions.size();
   Contribution out{piece.site, 0, 0, 0};
@@ -87,12 +113,12 @@ Contribution piece_contribution(const rvd::PieceView& piece, std::span<const Vec
     const Vec2& q1 = piece.positions[k + 1 == m ? 0 : k + 1];
     const Vec2 mid = 0.5 * (q0 + q1), half = 0.5 * (q1 - q0);
     const double scale = half.norm() / (xl - xc).norm();
-    for (std::size_t g = 0; g < kGaussNodes.size(); ++g) {
-      const Vec2 y = mid + kGaussNodes[g] * half;
+    for (std::size_t g = 0; g < gauss.nodes.size(); ++g) {
+      const Vec2 y = mid + gauss.nodes[g] * half;
       const Vec2 uc = y - xc, ul = y - xl;
       const double jump = power(uc.x(), p) + power(uc.y(), p) - power(ul.x(), p) - power(ul.y(), p);
-      out.gx += kGaussWeights[g] * scale * jump * uc.x();
-      out.gy += kGaussWeights[g] * scale * jump * uc.y();
+      out.gx += gauss.weights[g] * scale * jump * uc.x();
+      out.gy += gauss.weights[g] * scale * jump * uc.y();
     }
   }
   return out;
@@ -146,8 +172,9 @@ double lp_energy(const DomainMesh& domain, std::span<const Vec2> sites, int p, s
   const rvd::Engine engine(domain, sites);
   std::vector<std::vector<Contribution>> blocks(engine.block_count());
   const bool want_gradient = gradient != nullptr;
+  const GaussRule gauss = gauss_legendre(p / 2 + 1);
   engine.for_each_piece([&](std::size_t block, const rvd::PieceView& piece) {
-    blocks[block].push_back(piece_contribution(piece, sites, p, want_gradient));
+    blocks[block].push_back(piece_contribution(piece, sites, p, want_gradient, gauss));
   });
   // Summed in block order, never with floating-point joins across threads, so the
   // result does not depend on the thread count (§2.3).
