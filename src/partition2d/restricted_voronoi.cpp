@@ -223,8 +223,19 @@ Engine::Engine(const DomainMesh& domain, std::span<const Vec2> sites) : data_(st
   }
   Delaunay dt;
   dt.insert(pairs.begin(), pairs.end());
-  // Duplicate sites: only one of them is a Delaunay vertex; the others stay without
-  // neighbours and are never reached, i.e. they get empty cells.
+  if (dt.number_of_vertices() < n) {
+    // Duplicate sites: the tie rule gives the cell to the lowest index, so only that
+    // one is inserted; the others stay without neighbours, are never reached and
+    // get empty cells.
+    std::stable_sort(pairs.begin(), pairs.end(), [](const auto& x, const auto& y) {
+      return x.first.x() != y.first.x() ? x.first.x() < y.first.x() : x.first.y() < y.first.y();
+    });
+    pairs.erase(
+        std::unique(pairs.begin(), pairs.end(), [](const auto& x, const auto& y) { return x.first == y.first; }),
+        pairs.end());
+    dt.clear();
+    dt.insert(pairs.begin(), pairs.end());
+  }
   std::vector<std::vector<Index>> lists(n);
   for (auto v = dt.finite_vertices_begin(); v != dt.finite_vertices_end(); ++v) {
     std::vector<Index>& list = lists[v->info()];
@@ -362,7 +373,10 @@ void Engine::for_each_piece(const std::function<void(std::size_t, const PieceVie
                 // segment (exact ties): keep searching through its neighbours.
                 if (!found) {
                   for (const Index l : d.neighbors_of(c)) {
-                    if (std::find(seen.begin(), seen.end(), l) == seen.end()) seen.push_back(l), stack.push_back(l);
+                    if (std::find(seen.begin(), seen.end(), l) == seen.end()) {
+                      seen.push_back(l);
+                      stack.push_back(l);
+                    }
                   }
                 }
                 continue;
