@@ -107,8 +107,8 @@ Contribution piece_contribution(const rvd::PieceView& piece, std::span<const Vec
   // Bisector term of §1.7: int_{Γ_cl} (f_c - f_l)(y - x_c) / |x_l - x_c| ds.
   for (std::size_t k = 0; k < m; ++k) {
     const rvd::EdgeTag& tag = piece.tags[k];
-    if (!tag.bisector) continue;
-    const Vec2& xl = sites[tag.b];
+    if (!tag.on_bisector()) continue;
+    const Vec2& xl = sites[tag.neighbor];
     const Vec2& q0 = piece.positions[k];
     const Vec2& q1 = piece.positions[k + 1 == m ? 0 : k + 1];
     const Vec2 mid = 0.5 * (q0 + q1), half = 0.5 * (q1 - q0);

@@ -195,12 +195,15 @@ struct Polygon {
   }
 };
 
+// The key of the point where bisector(c, l) crosses an edge of c's piece. An edge on
+// both a CDT edge and a bisector gets the CDT name; restricted_voronoi renames such
+// points (equidistant from three sites) canonically.
 VertexKey intersection_key(const EdgeTag& crossed, Index c, Index l) {
-  if (!crossed.bisector) {
-    return {VertexKey::EdgeBisector, std::min(crossed.a, crossed.b), std::max(crossed.a, crossed.b), std::min(c, l),
-            std::max(c, l)};
+  if (crossed.on_cdt_edge()) {
+    return {VertexKey::EdgeBisector, std::min(crossed.cdt_a, crossed.cdt_b), std::max(crossed.cdt_a, crossed.cdt_b),
+            std::min(c, l), std::max(c, l)};
   }
-  std::array<Index, 3> s{crossed.a, crossed.b, l};
+  std::array<Index, 3> s{c, crossed.neighbor, l};
   std::sort(s.begin(), s.end());
   return {VertexKey::Voronoi, s[0], s[1], s[2], 0};
 }
@@ -322,7 +325,7 @@ void Engine::for_each_piece(const std::function<void(std::size_t, const PieceVie
               stack.pop_back();
               piece.clear();
               for (int k = 0; k < 3; ++k) {
-                piece.push({VertexKey::TriVertex, tri[k], 0, 0, 0}, {false, tri[k], tri[(k + 1) % 3]},
+                piece.push({VertexKey::TriVertex, tri[k], 0, 0, 0}, {tri[k], tri[(k + 1) % 3], kInvalidIndex},
                            domain.points[tri[k]]);
               }
               bool alive = true;
@@ -344,12 +347,17 @@ void Engine::for_each_piece(const std::function<void(std::size_t, const PieceVie
                   inside = inside || sides[k] > 0;
                   outside = outside || sides[k] < 0;
                 }
-                if (!outside) continue;
                 // Nothing strictly inside: what is left lies on the bisector line.
                 if (!inside) {
                   alive = false;
                   break;
                 }
+                // An edge with both ends on the bisector lies on it (a CDT edge along
+                // the bisector): tag it, for the bisector term and the flood fill.
+                for (std::size_t k = 0; k < m; ++k) {
+                  if (sides[k] == 0 && sides[k + 1 == m ? 0 : k + 1] == 0) piece.tags[k].neighbor = l;
+                }
+                if (!outside) continue;
                 clipped.clear();
                 for (std::size_t k = 0; k < m; ++k) {
                   const std::size_t next = k + 1 == m ? 0 : k + 1;
@@ -357,11 +365,13 @@ void Engine::for_each_piece(const std::function<void(std::size_t, const PieceVie
                   if (sa > 0) {
                     clipped.push(piece.keys[k], piece.tags[k], piece.positions[k]);
                   } else if (sa == 0) {
-                    clipped.push(piece.keys[k], sb < 0 ? EdgeTag{true, c, l} : piece.tags[k], piece.positions[k]);
+                    clipped.push(piece.keys[k], sb < 0 ? EdgeTag{kInvalidIndex, kInvalidIndex, l} : piece.tags[k],
+                                 piece.positions[k]);
                   }
                   if ((sa > 0 && sb < 0) || (sa < 0 && sb > 0)) {
                     const VertexKey key = intersection_key(piece.tags[k], c, l);
-                    clipped.push(key, sa > 0 ? EdgeTag{true, c, l} : piece.tags[k], d.position(key));
+                    clipped.push(key, sa > 0 ? EdgeTag{kInvalidIndex, kInvalidIndex, l} : piece.tags[k],
+                                 d.position(key));
                   }
                 }
                 std::swap(piece, clipped);
@@ -384,9 +394,9 @@ void Engine::for_each_piece(const std::function<void(std::size_t, const PieceVie
               found = true;
               visit(block, PieceView{static_cast<Index>(t), c, piece.keys, piece.tags, piece.positions});
               for (const EdgeTag& tag : piece.tags) {
-                if (tag.bisector && std::find(seen.begin(), seen.end(), tag.b) == seen.end()) {
-                  seen.push_back(tag.b);
-                  stack.push_back(tag.b);
+                if (tag.on_bisector() && std::find(seen.begin(), seen.end(), tag.neighbor) == seen.end()) {
+                  seen.push_back(tag.neighbor);
+                  stack.push_back(tag.neighbor);
                 }
               }
             }
@@ -413,8 +423,8 @@ Tessellation restricted_voronoi(const DomainMesh& domain, std::span<const Vec2> 
     const auto& tri = domain.triangles[piece.triangle];
     for (const rvd::EdgeTag& tag : piece.tags) {
       bool boundary = false;
-      for (int k = 0; k < 3 && !tag.bisector; ++k) {
-        boundary = boundary || (tri[k] == tag.a && domain.neighbors[piece.triangle][k] == kInvalidIndex);
+      for (int k = 0; k < 3 && tag.on_cdt_edge(); ++k) {
+        boundary = boundary || (tri[k] == tag.cdt_a && domain.neighbors[piece.triangle][k] == kInvalidIndex);
       }
       out.on_boundary.push_back(boundary ? 1 : 0);
     }

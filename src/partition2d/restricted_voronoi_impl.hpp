@@ -27,11 +27,14 @@ struct VertexKey {
   friend auto operator<=>(const VertexKey&, const VertexKey&) = default;
 };
 
-/// What an edge of a piece lies on: a CDT edge [a, b] or the bisector of sites (a, b)
-/// with a = the piece's own site.
+/// What an edge of a piece lies on: a CDT edge [cdt_a, cdt_b], the bisector of the
+/// piece's site and site `neighbor`, or both (exact degeneracy: a bisector along a
+/// CDT edge, which still carries the bisector term of §1.7). kInvalidIndex = no.
 struct EdgeTag {
-  bool bisector = false;
-  Index a = 0, b = 0;
+  Index cdt_a = kInvalidIndex, cdt_b = kInvalidIndex;
+  Index neighbor = kInvalidIndex;
+  bool on_cdt_edge() const { return cdt_a != kInvalidIndex; }
+  bool on_bisector() const { return neighbor != kInvalidIndex; }
 };
 
 /// One piece handed to the visitor; spans are valid during the call only. Vertices

@@ -156,3 +156,38 @@ TEST(LpCvt, EnergyDecreasesWithIterations) {
 
 }  // namespace
 }  // namespace structmesh::partition2d
+
+namespace structmesh::partition2d {
+namespace {
+
+TEST(LpCvt, GradientWhenBisectorRunsAlongCdtEdge) {
+  // Exact degeneracy: the bisector of the two sites is the line y = x/2, which is the
+  // CDT diagonal from (0, 0) to (2, 1) of this quadrilateral (the Delaunay one: the
+  // opposite angles sum to about 163 degrees). The bisector term of §1.7 must still
+  // be integrated along it (it is not zero: the line is neither axis-parallel nor
+  // diagonal, so f_i != f_j there).
+  Polygon2 region;
+  region.add_ring(std::vector<Vec2>{{0, 0}, {2.5, 0}, {2, 1}, {0.5, 1.3}});
+  const DomainMesh domain = build_domain_mesh(region, Frame{}, 0);
+  ASSERT_EQ(domain.triangles.size(), 2u);
+  const std::vector<Vec2> sites{{1.75, 1.5}, {2.25, 0.5}};  // mirror images across y = x/2
+  std::vector<double> gradient;
+  lp_energy(domain, sites, 8, &gradient);
+  const double step = 1e-6;
+  double norm = 0;
+  for (const double g : gradient) norm = std::max(norm, std::abs(g));
+  for (std::size_t k = 0; k < gradient.size(); ++k) {
+    std::vector<Vec2> plus = sites, minus = sites;
+    plus[k / 2][k % 2] += step;
+    minus[k / 2][k % 2] -= step;
+    const double difference = (lp_energy(domain, plus, 8, nullptr) - lp_energy(domain, minus, 8, nullptr)) / (2 * step);
+    // The bisector passes through two domain corners, where F'' jumps: the central
+    // difference is only first-order accurate here, hence 2e-5.
+    EXPECT_NEAR(gradient[k], difference, 2e-5 * norm) << "coordinate " << k;
+  }
+  const Tessellation t = restricted_voronoi(domain, sites);
+  EXPECT_EQ(t.face_count(), 2u);
+}
+
+}  // namespace
+}  // namespace structmesh::partition2d
