@@ -154,12 +154,6 @@ TEST(LpCvt, EnergyDecreasesWithIterations) {
   EXPECT_LT(previous, 0.8 * lp_energy(domain, start, 8, nullptr));
 }
 
-}  // namespace
-}  // namespace structmesh::partition2d
-
-namespace structmesh::partition2d {
-namespace {
-
 TEST(LpCvt, GradientWhenBisectorRunsAlongCdtEdge) {
   // Exact degeneracy: the bisector of the two sites is the line y = x/2, which is the
   // CDT diagonal from (0, 0) to (2, 1) of this quadrilateral (the Delaunay one: the
