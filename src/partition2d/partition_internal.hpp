@@ -237,7 +237,7 @@ struct GraphPartitionReport {
   std::size_t moved_by_repair = 0;
   double exact_gap = 0;                      ///< Exact: worst relative gap
   bool exact_proven = true;
-  bool balanced = false;  ///< every part within the k-way band (U / L = 1 + imbalance)
+  bool balanced = false;  ///< R_W (3.2) = max / min part area <= 1 + imbalance
 };
 
 /// Labels every node with a part in [0, parts). Every part non-empty and connected
