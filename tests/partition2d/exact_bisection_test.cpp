@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 namespace structmesh::partition2d {
@@ -16,6 +17,25 @@ using testing::grid_graph;
 using testing::grid_tessellation;
 using testing::GridSquare;
 using testing::hex_tessellation;
+
+// An nx x ny grid whose interior vertices are moved by up to 0.2 in x and y
+// (a fixed hash, no RNG): quads with angles off 90 degrees, so D_theta matters.
+CellGraph jittered_grid(int nx, int ny) {
+  const auto vertex = [&](int i, int j) {
+    Vec2 p(i, j);
+    if (i > 0 && i < nx && j > 0 && j < ny) {
+      const double a = std::sin(i * 12.9898 + j * 78.233) * 43758.5453,
+                   b = std::sin(i * 39.346 + j * 11.135) * 24634.6345;
+      p += 0.4 * Vec2(a - std::floor(a) - 0.5, b - std::floor(b) - 0.5);
+    }
+    return p;
+  };
+  std::vector<std::vector<Vec2>> faces;
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i)
+      faces.push_back({vertex(i, j), vertex(i + 1, j), vertex(i + 1, j + 1), vertex(i, j + 1)});
+  return build_cell_graph(testing::polygon_tessellation(faces), 1e-3);
+}
 
 struct Solved {
   std::vector<std::int32_t> labels;
@@ -92,6 +112,14 @@ TEST(ExactBisection, CvtGpFirstBisectionWithin15PercentOfExact) {
   cases.push_back({"10x6 grid, 3 parts", grid_graph(10, 6), 3});
   cases.push_back({"9x9 grid with a hole", build_cell_graph(grid_tessellation(9, 9, hole), 1e-3), 2});
   cases.push_back({"7x6 hexagons", build_cell_graph(hex_tessellation(7, 6), 1e-3), 2});
+  cases.push_back({"8x8 jittered grid", jittered_grid(8, 8), 2});
+  cases.push_back({"10x6 jittered, 3 parts", jittered_grid(10, 6), 3});
+  // Pairs of squares merged into 2x1 and 1x2 cells: unequal nodes and T-junctions.
+  cases.push_back(
+      {"10x8 merged squares",
+       build_cell_graph(grid_tessellation(10, 8, {}, [](int i, int j) { return static_cast<Index>((i / 2) * 8 + j); }),
+                        1e-3),
+       2});
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
     GraphPartitionOptions o = two_parts();
