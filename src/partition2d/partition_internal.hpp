@@ -183,6 +183,9 @@ struct CellGraph {
   std::vector<Index> node_corner_offsets{0};
   std::vector<Index> node_corners;
   double mean_arc_length = 0;  ///< mean length of node-separating edges (normalised)
+  // (cell_graph.cpp) "Edges" are those of the partition's primal graph, i.e. the
+  // Voronoi edges of design §1.9: pieces meeting at a pass-through vertex count as one
+  // edge and contracted edges as none; total separating length / that count.
 
   std::size_t node_count() const { return node_area.size(); }
 };
@@ -190,6 +193,11 @@ struct CellGraph {
 /// Builds the cell graph; edges between different nodes shorter than
 /// `contraction_length` are contracted for the corner structure (design §1.4).
 CellGraph build_cell_graph(const Tessellation& tessellation, double contraction_length);
+// (cell_graph.cpp) Nodes are numbered in order of their first face, so with one
+// face per cell and no cell split, node = face. Corners are ordered by their
+// smallest vertex; a contracted cluster's spoke directions are those of its edges
+// leaving the cluster, measured from their own end inside the cluster. Spokes are the
+// node-separating and region-boundary edges only: edges inside one node are not.
 
 /// Eq. (3.6): deviation of angle theta (radians, any value) from the nearest
 /// multiple of pi/2, in [0, pi/4].
@@ -250,6 +258,12 @@ std::vector<std::int32_t> partition_cell_graph(const CellGraph& graph, const Gra
 /// neighbouring part sharing the longest boundary with it; returns nodes moved.
 /// Used after direct CVT (one part per cell) and after METIS.
 std::size_t repair_connectivity(const CellGraph& graph, std::span<std::int32_t> node_label, std::size_t parts);
+// (cell_graph.cpp) Ties: the largest component with the smallest node stays; the
+// target with the smallest label wins. Repeats until no component can move, so
+// the count returned may include nodes moved twice. A part empty on entry stays empty
+// (the caller's problem); a component with no neighbour in another part (the graph
+// itself is disconnected) cannot be moved and stays. Error when a label is outside
+// [0, parts). Deterministic.
 
 /// Connected components of each part in the graph (max over parts).
 std::size_t max_components_per_part(const CellGraph& graph, std::span<const std::int32_t> node_label,

@@ -85,9 +85,12 @@ inline Tessellation grid_tessellation(int nx, int ny, const std::vector<GridSqua
                                       const std::function<Index(int, int)>& cell_of = {}) {
   std::vector<std::vector<Vec2>> faces;
   std::vector<Index> face_cell;
+  std::vector<std::uint8_t> skip(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny), 0);
+  for (const GridSquare& s : missing)
+    if (s.i >= 0 && s.i < nx && s.j >= 0 && s.j < ny) skip[static_cast<std::size_t>(s.j) * nx + s.i] = 1;
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
-      if (std::find(missing.begin(), missing.end(), GridSquare{i, j}) != missing.end()) continue;
+      if (skip[static_cast<std::size_t>(j) * nx + i]) continue;
       const Vec2 p(i, j);
       faces.push_back({p, p + Vec2(1, 0), p + Vec2(1, 1), p + Vec2(0, 1)});
       face_cell.push_back(cell_of ? cell_of(i, j) : static_cast<Index>(face_cell.size()));
