@@ -103,29 +103,6 @@ std::vector<idx_t> run_metis(MetisGraph& m, MetisKind kind, std::size_t parts, s
   return part;
 }
 
-/// Whether the graph is one component (METIS_OPTION_CONTIG fails otherwise).
-bool graph_connected(const CellGraph& graph) {
-  const std::size_t n = graph.node_count();
-  if (n == 0) return true;
-  std::vector<char> seen(n, 0);
-  std::vector<Index> stack{0};
-  seen[0] = 1;
-  std::size_t count = 1;
-  while (!stack.empty()) {
-    const Index v = stack.back();
-    stack.pop_back();
-    for (Index a = graph.adjacency_offsets[v]; a < graph.adjacency_offsets[v + 1]; ++a) {
-      const Index u = graph.adjacency[a];
-      if (!seen[u]) {
-        seen[u] = 1;
-        ++count;
-        stack.push_back(u);
-      }
-    }
-  }
-  return count == n;
-}
-
 /// A position per node: the mean of its corners (a node without corners, a cell
 /// enclosed by one other cell, takes the mean of its neighbours' positions).
 std::vector<Vec2> node_positions(const CellGraph& graph) {
@@ -524,7 +501,7 @@ class Refiner {
           if (!active_[q] || parent[q] != -2) continue;
           parent[q] = p;
           queue.push_back(q);
-          const double middle = 0.5 * (lo_[q] + std::min(hi_[q], 2 * lo_[q] + area_[q] + 1));
+          const double middle = 0.5 * (lo_[q] + hi_[q]);
           if (surplus ? area_[q] < middle : area_[q] > middle) {
             found = q;
             break;
@@ -879,8 +856,10 @@ class Partitioner {
     const std::size_t k = options_.parts;
     MetisGraph m = metis_graph(graph_, all, local_of_);
     const bool kway = options_.engine == GraphPartitionOptions::Engine::MetisKway;
+    // METIS_OPTION_CONTIG returns METIS_ERROR on a disconnected graph (RECIPES.md).
+    const bool contiguous = kway && max_components_per_part(graph_, std::vector<Label>(graph_.node_count(), 0), 1) == 1;
     const std::vector<idx_t> part =
-        kway ? run_metis(m, MetisKind::Kway, k, {}, options_.imbalance, graph_connected(graph_), options_.seed)
+        kway ? run_metis(m, MetisKind::Kway, k, {}, options_.imbalance, contiguous, options_.seed)
              : run_metis(m, MetisKind::Recursive, k, {}, tolerance_, false, options_.seed);
     for (std::size_t v = 0; v < part.size(); ++v) labels_[v] = static_cast<Label>(part[v]);
     fill_empty_parts();
