@@ -643,12 +643,16 @@ class Partitioner {
   void gp_bisection(const detail::BisectionProblem& problem) {
     std::vector<Label> best;
     double best_violation = kInf, best_value = kInf;
+    std::size_t best_moved = 0;
     for (int start = 0; start < 3; ++start) {
       if (start == 0)
         metis_split(problem);
       else
         coordinate_split(problem, start - 1);
-      count_and_repair_sides(problem);
+      const SideRepair initial = count_and_repair_sides(problem);
+      // The report describes METIS's output (a straight cut across a non-convex
+      // region is often in pieces, and repaired like METIS's).
+      if (start == 0) report_.components_before_repair = std::max(report_.components_before_repair, initial.components);
       refiner_.activate(problem.label0, problem.lo0, problem.hi0);
       refiner_.activate(problem.label1, problem.lo1, problem.hi1);
       for (Index v : problem.nodes) refiner_.add_area(labels_[v], graph_.node_area[v]);
@@ -658,7 +662,7 @@ class Partitioner {
         if (moved == 0) break;
       }
       // Every move kept both sides connected; this only guards the invariant.
-      count_and_repair_sides(problem);
+      const std::size_t moved = initial.moved + count_and_repair_sides(problem).moved;
       const double violation = refiner_.band_violation(problem.label0) + refiner_.band_violation(problem.label1);
       const double value = refiner_.group_objective(problem.nodes);
       refiner_.deactivate(problem.label0);
@@ -667,11 +671,13 @@ class Partitioner {
       if (violation < best_violation - 1e-12 || (violation <= best_violation + 1e-12 && value < best_value - tiny)) {
         best_violation = violation;
         best_value = value;
+        best_moved = moved;
         best.resize(problem.nodes.size());
         for (std::size_t i = 0; i < best.size(); ++i) best[i] = labels_[problem.nodes[i]];
       }
     }
     for (std::size_t i = 0; i < best.size(); ++i) labels_[problem.nodes[i]] = best[i];
+    report_.moved_by_repair += best_moved;
   }
 
   /// A straight cut across `axis` (0 = x, 1 = y): side 0 takes the nodes of lowest
@@ -748,7 +754,11 @@ class Partitioner {
   /// Region growing per side (design §2.7, "moves disconnected pieces to the other
   /// side"): the largest component of a side stays, every other component that
   /// touches the other side flips to it.
-  void count_and_repair_sides(const detail::BisectionProblem& problem) {
+  struct SideRepair {
+    std::size_t components = 0;  ///< most components of a side before the repair
+    std::size_t moved = 0;
+  };
+  SideRepair count_and_repair_sides(const detail::BisectionProblem& problem) {
     const std::span<const Index> nodes(problem.nodes);
     for (std::size_t i = 0; i < nodes.size(); ++i) local_of_[nodes[i]] = static_cast<Index>(i);
     std::vector<Index> component(nodes.size(), kInvalidIndex);
@@ -783,10 +793,11 @@ class Partitioner {
       ++count[side];
       if (largest[side] == kInvalidIndex || component_area[c] > component_area[largest[side]]) largest[side] = c;
     }
-    report_.components_before_repair = std::max({report_.components_before_repair, count[0], count[1]});
+    SideRepair repair;
+    repair.components = std::max(count[0], count[1]);
     if (count[0] <= 1 && count[1] <= 1) {
       for (Index v : nodes) local_of_[v] = kInvalidIndex;
-      return;
+      return repair;
     }
     std::vector<char> touches_other(component_area.size(), 0);
     for (std::size_t i = 0; i < nodes.size(); ++i) {
@@ -799,9 +810,10 @@ class Partitioner {
       const Index c = component[i];
       if (c == largest[0] || c == largest[1] || !touches_other[c]) continue;
       labels_[nodes[i]] = component_label[c] == problem.label0 ? problem.label1 : problem.label0;
-      ++report_.moved_by_repair;
+      ++repair.moved;
     }
     for (Index v : nodes) local_of_[v] = kInvalidIndex;
+    return repair;
   }
 
   /// Exact engine: the CVT-GP bisection first (a fallback incumbent), then the MILP
@@ -820,7 +832,7 @@ class Partitioner {
     const double gap = r.objective > 0 ? (r.objective - r.bound) / r.objective : 0.0;
     report_.exact_gap = std::max(report_.exact_gap, std::max(0.0, gap));
     report_.exact_proven = report_.exact_proven && r.proven;
-    count_and_repair_sides(problem);
+    report_.moved_by_repair += count_and_repair_sides(problem).moved;
   }
 
   /// k-way refinement over the finished partition (design §1.8 step 6): band

@@ -141,3 +141,24 @@ TEST(ExactBisection, CvtGpFirstBisectionWithin15PercentOfExact) {
 
 }  // namespace
 }  // namespace structmesh::partition2d
+
+namespace structmesh::partition2d {
+namespace {
+
+TEST(ExactBisection, OutOfTimeKeepsTheCvtGpBisection) {
+  // No time at all: CBC never runs, the engine keeps CVT-GP's bisections, says the
+  // result is not proven, and the parts are still valid.
+  const CellGraph graph = testing::grid_graph(8, 8);
+  GraphPartitionOptions o;
+  o.engine = GraphPartitionOptions::Engine::Exact;
+  o.parts = 4;
+  o.exact_time_limit = 0;
+  GraphPartitionReport report;
+  const std::vector<std::int32_t> labels = partition_cell_graph(graph, o, &report);
+  EXPECT_FALSE(report.exact_proven);
+  EXPECT_EQ(max_components_per_part(graph, labels, 4), 1u);
+  EXPECT_NEAR(detail::separator_length(graph, labels), 16.0, 1e-9);  // quadrants
+}
+
+}  // namespace
+}  // namespace structmesh::partition2d
