@@ -259,6 +259,7 @@ class Refiner {
   std::size_t balance(std::span<const Index> nodes) {
     std::vector<char> stuck(area_.size(), 0);
     std::size_t kept = 0;
+    bool members_current = false;  // an undone chain leaves the membership as it was
     const std::size_t cap = 2 * nodes.size() + 64;
     for (std::size_t iteration = 0; iteration < cap; ++iteration) {
       Label worst = -1;
@@ -272,7 +273,8 @@ class Refiner {
         }
       }
       if (worst < 0) break;
-      build_members(nodes);
+      if (!members_current) build_members(nodes);
+      members_current = true;
       const bool surplus = area_[worst] > hi_[worst];
       const std::vector<Label> chain = part_chain(worst, surplus);
       if (chain.size() < 2) {
@@ -294,6 +296,7 @@ class Refiner {
       }
       if (ok && total_violation() < before - 1e-12 * std::max(1.0, before)) {
         kept += undo.size();
+        members_current = false;
         continue;
       }
       for (auto it = undo.rbegin(); it != undo.rend(); ++it) apply(it->first, it->second);
@@ -823,7 +826,7 @@ class Partitioner {
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     const double remaining = std::max(0.0, options_.exact_time_limit - elapsed);
     const double volume = static_cast<double>(problem.nodes.size() * ceil_log2(k));
-    const double seconds = pending_volume_ > 0 ? remaining * volume / pending_volume_ : remaining;
+    const double seconds = pending_volume_ > volume ? remaining * volume / pending_volume_ : remaining;
     pending_volume_ -= volume;
     const std::size_t k0 = k / 2;
     const std::size_t half = problem.nodes.size() / 2;
