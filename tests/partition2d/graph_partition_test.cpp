@@ -46,6 +46,26 @@ void expect_valid(const CellGraph& graph, const std::vector<std::int32_t>& label
   EXPECT_EQ(max_components_per_part(graph, labels, k), 1u);
 }
 
+// Corners where one part occupies two separate sectors (a vertex-only self-contact,
+// which makes a self-touching part ring; design §2.7 "no pinch").
+std::size_t pinches(const CellGraph& graph, const std::vector<std::int32_t>& labels) {
+  std::size_t count = 0;
+  std::vector<int> runs;
+  for (Index c = 0; c + 1 < graph.corner_offsets.size(); ++c) {
+    const Index begin = graph.corner_offsets[c], end = graph.corner_offsets[c + 1];
+    const auto label = [&](Index s) {
+      const Index node = graph.spokes[s].left_node;
+      return node == kInvalidIndex ? -1 : labels[node];
+    };
+    runs.clear();
+    for (Index s = begin; s < end; ++s)
+      if (label(s) >= 0 && label(s) != label(s == begin ? end - 1 : s - 1)) runs.push_back(label(s));
+    std::sort(runs.begin(), runs.end());
+    if (std::adjacent_find(runs.begin(), runs.end()) != runs.end()) ++count;
+  }
+  return count;
+}
+
 // A 12 x 12 grid with a 4 x 3 hole and a notch, a hexagon patch, a plain grid.
 std::vector<CellGraph> sample_graphs() {
   std::vector<GridSquare> missing;
@@ -67,7 +87,11 @@ TEST(GraphPartition, EveryEngineGivesKConnectedParts) {
         SCOPED_TRACE(::testing::Message()
                      << "engine " << static_cast<int>(engine) << " k " << k << " nodes " << graph.node_count());
         GraphPartitionReport report;
-        expect_valid(graph, partition_cell_graph(graph, options_for(engine, k), &report), k);
+        const std::vector<std::int32_t> labels = partition_cell_graph(graph, options_for(engine, k), &report);
+        expect_valid(graph, labels, k);
+        if (engine == Engine::RecursiveGp) {
+          EXPECT_EQ(pinches(graph, labels), 0u);
+        }
       }
     }
   }
