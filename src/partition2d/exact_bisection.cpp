@@ -69,9 +69,12 @@ struct Solution {
   std::vector<char> x;
   double objective = 0, bound = 0;
   bool optimal = false;
+  bool nothing_below_cutoff = false;  ///< proven: no solution better than the cutoff
 };
 
-Solution solve(const Milp& milp, double seconds) {
+/// Solves the MILP with CBC within `seconds`, pruning at `cutoff` (the incumbent's
+/// value plus a hair, so CBC only looks for something at least as good).
+Solution solve(const Milp& milp, double seconds, double cutoff) {
   const std::size_t columns = milp.columns();
   CoinPackedMatrix matrix(false, 0, 0);
   matrix.setDimensions(0, static_cast<int>(columns));
@@ -92,12 +95,16 @@ Solution solve(const Milp& milp, double seconds) {
   data.noPrinting_ = true;
   CbcMain0(model, data);
   const std::string limit = std::to_string(std::max(0.01, seconds));
-  const char* argv[] = {"cbc", "-log", "0", "-sec", limit.c_str(), "-solve", "-quit"};
-  CbcMain1(7, argv, model, nullptr, data);
+  const std::string cut = std::to_string(cutoff);
+  const char* argv[] = {"cbc", "-log", "0", "-sec", limit.c_str(), "-cutoff", cut.c_str(), "-solve", "-quit"};
+  CbcMain1(9, argv, model, nullptr, data);
   Solution s;
   const double* best = model.bestSolution();
   s.bound = model.getBestPossibleObjValue();
-  if (best == nullptr) return s;
+  if (best == nullptr) {
+    s.nothing_below_cutoff = model.isProvenInfeasible();
+    return s;
+  }
   s.found = true;
   s.x.resize(milp.n);
   for (std::size_t j = 0; j < milp.n; ++j) s.x[j] = best[j] > 0.5;
@@ -242,16 +249,31 @@ ExactBisectionResult exact_bisection(const CellGraph& graph, std::span<std::int3
 
   ExactBisectionResult result;
   result.objective = milp.value(incumbent);
+  double incumbent_area = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (incumbent[i]) incumbent_area += graph.node_area[nodes[i]];
+  const double band_lo = milp.rows.back().lo, band_hi = milp.rows.back().hi;  // the balance row
+  const bool incumbent_in_band = incumbent_area / total >= band_lo - 1e-9 && incumbent_area / total <= band_hi + 1e-9;
   double bound = 0;
   bool improved = false;
   std::vector<Index> component(n);
   for (;;) {
     const double remaining = seconds - elapsed_since(start);
     if (remaining <= 0) break;
-    const Solution s = solve(milp, remaining);
+    // An incumbent outside the band is no bound on the optimum.
+    const double cutoff = incumbent_in_band ? result.objective + 1e-6 * std::max(1.0, result.objective) : 1e30;
+    const Solution s = solve(milp, remaining, cutoff);
     ++result.solves;
     bound = std::max(bound, s.bound);
-    if (!s.found) break;
+    if (!s.found) {
+      // Nothing beats the incumbent: it is optimal when it is itself feasible
+      // (the CVT-GP bisection is connected; the band is checked here).
+      if (s.nothing_below_cutoff && incumbent_in_band) {
+        result.proven = true;
+        bound = std::max(bound, result.objective);
+      }
+      break;
+    }
     // Components of each side inside the group.
     std::fill(component.begin(), component.end(), kInvalidIndex);
     std::vector<double> comp_area;
