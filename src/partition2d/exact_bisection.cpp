@@ -113,6 +113,45 @@ Solution solve(const Milp& milp, double seconds, double cutoff) {
   return s;
 }
 
+struct SideComponents {
+  std::vector<Index> of_node;  ///< local node -> component
+  std::vector<double> area;
+  std::vector<char> side;
+  std::vector<Index> heaviest;  ///< the component's node of largest area (lowest index on ties)
+};
+
+/// Connected components of the two sides of x inside the group.
+SideComponents side_components(const CellGraph& graph, const std::vector<Index>& nodes, const std::vector<Index>& local,
+                               const std::vector<char>& x) {
+  const std::size_t n = nodes.size();
+  SideComponents c;
+  c.of_node.assign(n, kInvalidIndex);
+  std::vector<Index> stack;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (c.of_node[i] != kInvalidIndex) continue;
+    const Index id = static_cast<Index>(c.area.size());
+    c.area.push_back(0);
+    c.side.push_back(x[i]);
+    c.heaviest.push_back(static_cast<Index>(i));
+    c.of_node[i] = id;
+    stack.assign(1, static_cast<Index>(i));
+    while (!stack.empty()) {
+      const Index w = stack.back();
+      stack.pop_back();
+      const double a = graph.node_area[nodes[w]], h = graph.node_area[nodes[c.heaviest[id]]];
+      c.area[id] += a;
+      if (a > h || (a == h && w < c.heaviest[id])) c.heaviest[id] = w;
+      for (Index e = graph.adjacency_offsets[nodes[w]]; e < graph.adjacency_offsets[nodes[w] + 1]; ++e) {
+        const Index u = local[graph.adjacency[e]];
+        if (u == kInvalidIndex || c.of_node[u] != kInvalidIndex || x[u] != x[w]) continue;
+        c.of_node[u] = id;
+        stack.push_back(u);
+      }
+    }
+  }
+  return c;
+}
+
 double elapsed_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
@@ -253,55 +292,35 @@ ExactBisectionResult exact_bisection(const CellGraph& graph, std::span<std::int3
   for (std::size_t i = 0; i < n; ++i)
     if (incumbent[i]) incumbent_area += graph.node_area[nodes[i]];
   const double band_lo = milp.rows.back().lo, band_hi = milp.rows.back().hi;  // the balance row
-  const bool incumbent_in_band = incumbent_area / total >= band_lo - 1e-9 && incumbent_area / total <= band_hi + 1e-9;
+  // Feasible for the true problem: in the band, and each side one piece (at most
+  // two components in all).
+  const bool incumbent_feasible = incumbent_area / total >= band_lo - 1e-9 &&
+                                  incumbent_area / total <= band_hi + 1e-9 &&
+                                  side_components(graph, nodes, local, incumbent).area.size() <= 2;
   double bound = 0;
   bool improved = false;
-  std::vector<Index> component(n);
   for (;;) {
     const double remaining = seconds - elapsed_since(start);
     if (remaining <= 0) break;
-    // An incumbent outside the band is no bound on the optimum.
-    const double cutoff = incumbent_in_band ? result.objective + 1e-6 * std::max(1.0, result.objective) : 1e30;
+    // An infeasible incumbent is no bound on the optimum.
+    const double cutoff = incumbent_feasible ? result.objective + 1e-6 * std::max(1.0, result.objective) : 1e30;
     const Solution s = solve(milp, remaining, cutoff);
     ++result.solves;
     bound = std::max(bound, s.bound);
     if (!s.found) {
-      // Nothing beats the incumbent: it is optimal when it is itself feasible
-      // (the CVT-GP bisection is connected; the band is checked here).
-      if (s.nothing_below_cutoff && incumbent_in_band) {
+      // Nothing beats the incumbent: it is optimal when it is itself feasible.
+      if (s.nothing_below_cutoff && incumbent_feasible) {
         result.proven = true;
         bound = std::max(bound, result.objective);
       }
       break;
     }
     // Components of each side inside the group.
-    std::fill(component.begin(), component.end(), kInvalidIndex);
-    std::vector<double> comp_area;
-    std::vector<char> comp_side;
-    std::vector<Index> comp_heaviest, stack;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (component[i] != kInvalidIndex) continue;
-      const Index id = static_cast<Index>(comp_area.size());
-      comp_area.push_back(0);
-      comp_side.push_back(s.x[i]);
-      comp_heaviest.push_back(static_cast<Index>(i));
-      component[i] = id;
-      stack.assign(1, static_cast<Index>(i));
-      while (!stack.empty()) {
-        const Index w = stack.back();
-        stack.pop_back();
-        comp_area[id] += graph.node_area[nodes[w]];
-        if (graph.node_area[nodes[w]] > graph.node_area[nodes[comp_heaviest[id]]] ||
-            (graph.node_area[nodes[w]] == graph.node_area[nodes[comp_heaviest[id]]] && w < comp_heaviest[id]))
-          comp_heaviest[id] = w;
-        for (Index a = graph.adjacency_offsets[nodes[w]]; a < graph.adjacency_offsets[nodes[w] + 1]; ++a) {
-          const Index u = local[graph.adjacency[a]];
-          if (u == kInvalidIndex || component[u] != kInvalidIndex || s.x[u] != s.x[w]) continue;
-          component[u] = id;
-          stack.push_back(u);
-        }
-      }
-    }
+    const SideComponents comps = side_components(graph, nodes, local, s.x);
+    const std::vector<Index>& component = comps.of_node;
+    const std::vector<double>& comp_area = comps.area;
+    const std::vector<char>& comp_side = comps.side;
+    const std::vector<Index>& comp_heaviest = comps.heaviest;
     std::size_t added = 0;
     for (int side = 0; side < 2; ++side) {
       Index largest = kInvalidIndex;
