@@ -4,6 +4,15 @@
 // refinement reads labels across group borders (corners shared with other groups),
 // so sequential recursion keeps results independent of the thread count; a
 // 25k-node graph into 1024 parts is a fraction of a second this way.
+//
+// Where this differs from the design's wording, and why:
+// - refinement passes are Fiduccia-Mattheyses style (moves of any gain, rolled back
+//   to the best prefix) instead of strictly improving moves only (Refiner);
+// - each bisection also refines two axis-parallel starts beside METIS's and keeps
+//   the best (gp_bisection);
+// - the per-bisection band is (1 + t)^depth = sqrt(1 + imbalance), so a part that
+//   stays in every band also meets the k-way band (detail::bisection_tolerance);
+// - the exact engine's time limit covers the whole run, shared by group size.
 #include "partition2d/graph_partition_detail.hpp"
 #include "partition2d/partition_internal.hpp"
 #include "structmesh/error.hpp"

@@ -236,7 +236,7 @@ struct GraphPartitionOptions {
   double angle_weight = 1.0;       ///< lambda = angle_weight * graph.mean_arc_length
   bool boundary_corners = true;
   int refinement_passes = 10;
-  double exact_time_limit = 60;
+  double exact_time_limit = 60;  ///< seconds for the whole run (Exact), shared by the bisections
   std::uint64_t seed = 0;
 };
 
