@@ -268,7 +268,10 @@ class Refiner {
   std::size_t balance(std::span<const Index> nodes) {
     std::vector<char> stuck(area_.size(), 0);
     std::size_t kept = 0;
-    bool members_current = false;  // an undone chain leaves the membership as it was
+    // Part membership is rebuilt (O(n)) only when a chain fails on a stale one:
+    // departed nodes are skipped by the transfer, and a part that received nodes
+    // rarely needs them as candidates, so long one-way transfers stay near-linear.
+    bool members_dirty = true, members_fresh = false;
     const std::size_t cap = 2 * nodes.size() + 64;
     for (std::size_t iteration = 0; iteration < cap; ++iteration) {
       Label worst = -1;
@@ -282,12 +285,16 @@ class Refiner {
         }
       }
       if (worst < 0) break;
-      if (!members_current) build_members(nodes);
-      members_current = true;
+      if (members_dirty) {
+        build_members(nodes);
+        members_dirty = false;
+        members_fresh = true;
+      }
       const bool surplus = area_[worst] > hi_[worst];
       const std::vector<Label> chain = part_chain(worst, surplus);
       if (chain.size() < 2) {
-        stuck[worst] = 1;
+        if (members_fresh) stuck[worst] = 1;
+        members_dirty = true;
         continue;
       }
       const double before = total_violation();
@@ -305,11 +312,12 @@ class Refiner {
       }
       if (ok && total_violation() < before - 1e-12 * std::max(1.0, before)) {
         kept += undo.size();
-        members_current = false;
+        members_fresh = false;
         continue;
       }
       for (auto it = undo.rbegin(); it != undo.rend(); ++it) apply(it->first, it->second);
-      stuck[worst] = 1;
+      if (members_fresh) stuck[worst] = 1;
+      members_dirty = true;  // retry once on the current membership
     }
     return kept;
   }
@@ -662,6 +670,7 @@ class Partitioner {
       else
         coordinate_split(problem, start - 1);
       const SideRepair initial = count_and_repair_sides(problem);
+      if (start > 0 && far_from_band(problem)) continue;
       // The report describes METIS's output (a straight cut across a non-convex
       // region is often in pieces, and repaired like METIS's).
       if (start == 0) report_.components_before_repair = std::max(report_.components_before_repair, initial.components);
@@ -690,6 +699,18 @@ class Partitioner {
     }
     for (std::size_t i = 0; i < best.size(); ++i) labels_[problem.nodes[i]] = best[i];
     report_.moved_by_repair += best_moved;
+  }
+
+  /// Whether side 0 misses its band by more than a tenth of the group's area: a
+  /// straight cut across a non-convex group whose repair moved whole pieces. Such a
+  /// start is dropped rather than rebalanced node by node.
+  bool far_from_band(const detail::BisectionProblem& problem) const {
+    double side0 = 0, total = 0;
+    for (Index v : problem.nodes) {
+      total += graph_.node_area[v];
+      if (labels_[v] == problem.label0) side0 += graph_.node_area[v];
+    }
+    return side0 < problem.lo0 - 0.1 * total || side0 > problem.hi0 + 0.1 * total;
   }
 
   /// A straight cut across `axis` (0 = x, 1 = y): side 0 takes the nodes of lowest
