@@ -97,6 +97,25 @@ TEST(GraphPartition, EveryEngineGivesKConnectedParts) {
   }
 }
 
+TEST(GraphPartition, OptionVariantsStayValid) {
+  // No angle term, no boundary corners, no refinement, a loose band, another seed.
+  const CellGraph graph = build_cell_graph(hex_tessellation(20, 18), 1e-3);
+  for (int variant = 0; variant < 5; ++variant) {
+    GraphPartitionOptions o = options_for(Engine::RecursiveGp, 6);
+    if (variant == 0) o.angle_weight = 0;
+    if (variant == 1) o.boundary_corners = false;
+    if (variant == 2) o.refinement_passes = 0;
+    if (variant == 3) o.imbalance = 0.3;
+    if (variant == 4) o.seed = 12345;
+    SCOPED_TRACE(::testing::Message() << "variant " << variant);
+    GraphPartitionReport report;
+    expect_valid(graph, partition_cell_graph(graph, o, &report), 6);
+    if (variant != 2) {
+      EXPECT_TRUE(report.balanced);
+    }
+  }
+}
+
 TEST(GraphPartition, ExactEngineGivesKConnectedParts) {
   const CellGraph graph = grid_graph(6, 6);
   for (std::size_t k : {2u, 3u, 4u}) {
