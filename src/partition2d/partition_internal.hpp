@@ -236,7 +236,7 @@ struct GraphPartitionOptions {
   double angle_weight = 1.0;       ///< lambda = angle_weight * graph.mean_arc_length
   bool boundary_corners = true;
   int refinement_passes = 10;
-  double exact_time_limit = 60;
+  double exact_time_limit = 60;  ///< seconds for the whole run (Exact), shared by the bisections
   std::uint64_t seed = 0;
 };
 
@@ -245,6 +245,7 @@ struct GraphPartitionReport {
   std::size_t moved_by_repair = 0;
   double exact_gap = 0;                      ///< Exact: worst relative gap
   bool exact_proven = true;
+  bool balanced = false;  ///< R_W (3.2) = max / min part area <= 1 + imbalance
 };
 
 /// Labels every node with a part in [0, parts). Every part non-empty and connected
