@@ -55,6 +55,8 @@ nlohmann::json metrics_json(const Partition& partition) {
           {"compactness_normalized", m.compactness_normalized},
           {"angle_deviation", m.angle_deviation},
           {"corners", m.corners},
+          {"corner_resolution", m.corner_resolution},
+          {"angle_deviation_fine", m.angle_deviation_fine},
           {"junction_angle_deviation", m.junction_angle_deviation},
           {"junction_corners", m.junction_corners},
           {"region_area", m.region_area},
@@ -91,9 +93,10 @@ Action add_partition2d_command(CLI::App& command, const GlobalOptions& global) {
   command.add_option("-k,--parts", o.parts, "Number of parts")->required()->check(CLI::PositiveNumber);
   command.add_option("--method", settings->method, "cvtgp (default), cvt, metis, madd or exact")
       ->check(CLI::IsMember({"cvtgp", "cvt", "metis", "madd", "exact"}));
-  command.add_option("--cells", o.cells,
-                     "CVT cells (cvtgp, exact) or fine triangles (metis, madd); raised to 24 per part "
-                     "unless --exact-cells")
+  command
+      .add_option("--cells", o.cells,
+                  "CVT cells (cvtgp, exact) or fine triangles (metis, madd); raised to 24 per part "
+                  "unless --exact-cells")
       ->capture_default_str();
   command.add_flag("--exact-cells", o.exact_cells, "Use --cells as given");
   command.add_option("--p", o.p, "Exponent of the L_p-CVT energy (even, eq. 3.12)")->capture_default_str();
@@ -103,14 +106,17 @@ Action add_partition2d_command(CLI::App& command, const GlobalOptions& global) {
   command.add_flag("!--no-boundary-corners", o.boundary_corners,
                    "Leave separator/boundary corners out of the objective (the dissertation's exact J)");
   command.add_option("--cvt-iterations", o.cvt_max_iterations, "L-BFGS iterations")->capture_default_str();
-  command.add_option("--time-limit", o.exact_time_limit, "Seconds per bisection for --method exact")
+  command
+      .add_option("--time-limit", o.exact_time_limit,
+                  "Seconds for --method exact (whole run; CVT-GP bisections kept where the MILP runs out of time)")
       ->capture_default_str();
   command.add_flag("!--no-proxy", o.proxy_domain, "Optimise the CVT on the full boundary, never a simplified one");
   command.add_option("--seed", o.seed, "Seed (jitter of the initial sites, METIS)")->capture_default_str();
   command.add_option("--segments", settings->segments, "Boundary segments of the built-in key or pipe")
       ->check(CLI::Range(std::size_t{16}, std::size_t{200'000'000}));
   command.add_option("--polygon", settings->polygon, "Which polygon of a multi-polygon file: INDEX or largest");
-  command.add_option("-o,--output", settings->outputs, "Outputs: .geojson (parts, separators), .svg, .png (repeatable)");
+  command.add_option("-o,--output", settings->outputs,
+                     "Outputs: .geojson (parts, separators), .svg, .png (repeatable)");
 
   return [&global, settings]() {
     PartitionOptions options = settings->options;
@@ -128,8 +134,8 @@ Action add_partition2d_command(CLI::App& command, const GlobalOptions& global) {
 
     if (!partition.projection.empty()) say(global, "lon/lat input projected to " + partition.projection);
     char line[256];
-    std::snprintf(line, sizeof line, "%zu parts (%s, %zu cells, %zu graph nodes)", m.parts,
-                  method_name(options.method), m.cells, m.graph_nodes);
+    std::snprintf(line, sizeof line, "%zu parts (%s, %zu cells, %zu graph nodes)", m.parts, method_name(options.method),
+                  m.cells, m.graph_nodes);
     say(global, line);
     std::snprintf(line, sizeof line, "  R_W (3.2)             %.4f", m.workload_ratio);
     say(global, line);
@@ -138,7 +144,10 @@ Action add_partition2d_command(CLI::App& command, const GlobalOptions& global) {
     say(global, line);
     std::snprintf(line, sizeof line, "  separator length      %.6g", m.separator_length);
     say(global, line);
-    std::snprintf(line, sizeof line, "  angle deviation (3.8) %.4f rad over %zu corners", m.angle_deviation, m.corners);
+    std::snprintf(line, sizeof line,
+                  "  angle deviation (3.8) %.4f rad over %zu corners (edges < %.2g cells contracted;"
+                  " %.4f at 1e-3)",
+                  m.angle_deviation, m.corners, m.corner_resolution, m.angle_deviation_fine);
     say(global, line);
     std::snprintf(line, sizeof line, "  at junctions          %.4f rad over %zu corners", m.junction_angle_deviation,
                   m.junction_corners);
@@ -171,10 +180,14 @@ Action add_partition2d_command(CLI::App& command, const GlobalOptions& global) {
     report["input"] = settings->source;
     report["method"] = method_name(options.method);
     report["projection"] = partition.projection;
-    report["options"] = {{"parts", options.parts},     {"cells", options.cells},
-                         {"exact_cells", options.exact_cells}, {"p", options.p},
-                         {"imbalance", options.imbalance},     {"angle_weight", options.angle_weight},
-                         {"boundary_corners", options.boundary_corners}, {"seed", options.seed}};
+    report["options"] = {{"parts", options.parts},
+                         {"cells", options.cells},
+                         {"exact_cells", options.exact_cells},
+                         {"p", options.p},
+                         {"imbalance", options.imbalance},
+                         {"angle_weight", options.angle_weight},
+                         {"boundary_corners", options.boundary_corners},
+                         {"seed", options.seed}};
     nlohmann::json areas = nlohmann::json::array();
     for (const double a : partition.part_areas) areas.push_back(a);
     report["part_areas"] = areas;

@@ -73,7 +73,8 @@ void table(const std::string& name, const Polygon2& region, const std::vector<st
   std::printf("\n### %s (%zu boundary segments, %zu holes)\n\n", name.c_str(), region.points.size(),
               region.hole_count());
   std::printf(
-      "| k | method | cells | R_W | R_C (3.5) | R_C norm | R_C / METIS | delta (3.8) | delta junction | delta / METIS | "
+      "| k | method | cells | R_W | R_C (3.5) | R_C norm | R_C / METIS | delta (3.8) | delta junction | delta / METIS "
+      "| "
       "comps | time (s) | dissertation R_W | R_C | delta |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const std::size_t k : ks) {
@@ -94,8 +95,8 @@ void table(const std::string& name, const Polygon2& region, const std::vector<st
       const PartitionMetrics* metis = results.count("metis") ? &results["metis"] : nullptr;
       const auto found = dissertation().find(name + "/" + std::to_string(k) + "/" + key);
       const Printed printed = found != dissertation().end() ? found->second : Printed{"", "", ""};
-      std::printf("| %zu | %s | %zu | %.3f | %.4g | %.3f | %.3f | %.3f | %.3f | %.2f | %zu | %.2f | %s | %s | %s |\n", k,
-                  key.c_str(), m.cells, m.workload_ratio, m.compactness, m.compactness_normalized,
+      std::printf("| %zu | %s | %zu | %.3f | %.4g | %.3f | %.3f | %.3f | %.3f | %.2f | %zu | %.2f | %s | %s | %s |\n",
+                  k, key.c_str(), m.cells, m.workload_ratio, m.compactness, m.compactness_normalized,
                   metis ? m.compactness / metis->compactness : 0.0, m.angle_deviation, m.junction_angle_deviation,
                   metis && metis->angle_deviation > 0 ? m.angle_deviation / metis->angle_deviation : 0.0,
                   m.max_components_per_part, total_seconds(m), printed.rw, printed.rc, printed.delta);
@@ -143,12 +144,12 @@ void large(std::size_t segments) {
   std::printf("\n### Key with %zu boundary segments, CVT-GP, k = 128, 4000 cells\n\n", segments);
   std::printf("| stage | seconds |\n|---|---|\n");
   for (const auto& [name, seconds] : m.stage_seconds) std::printf("| %s | %.2f |\n", name.c_str(), seconds);
-  std::printf("| **L_p-CVT (target <= 10 s)** | **%.2f** |\n",
-              stage(m, "domain triangulation") + stage(m, "L_p-CVT"));
+  std::printf("| **L_p-CVT (target <= 10 s)** | **%.2f** |\n", stage(m, "domain triangulation") + stage(m, "L_p-CVT"));
   std::printf("| **full partition (target <= 15 s)** | **%.2f** |\n", total_seconds(m));
-  std::printf("\nBuilding the region itself took %.2f s (not counted). Peak RSS %.0f MB. R_W %.3f, delta %.3f, "
-              "CVT %d iterations (%s).\n",
-              build, m.peak_rss_mb, m.workload_ratio, m.angle_deviation, m.cvt_iterations, m.cvt_stop_reason.c_str());
+  std::printf(
+      "\nBuilding the region itself took %.2f s (not counted). Peak RSS %.0f MB. R_W %.3f, delta %.3f, "
+      "CVT %d iterations (%s).\n",
+      build, m.peak_rss_mb, m.workload_ratio, m.angle_deviation, m.cvt_iterations, m.cvt_stop_reason.c_str());
 }
 
 }  // namespace

@@ -37,20 +37,20 @@ struct PartitionOptions {
   /// 24 * parts unless exact_cells, so that balance is achievable (design §1.9).
   std::size_t cells = 4000;
   bool exact_cells = false;
-  int p = 8;                       ///< L_p exponent of eq. (3.12): even, >= 2
-  double imbalance = 0.05;         ///< target R_W <= 1 + imbalance (eq. 3.1/3.2)
-  double angle_weight = 1.0;       ///< lambda = angle_weight * mean separator edge length
-  bool boundary_corners = true;    ///< separator/boundary corners in the objective
-  int cvt_max_iterations = 200;    ///< L-BFGS iterations
+  int p = 8;                             ///< L_p exponent of eq. (3.12): even, >= 2
+  double imbalance = 0.05;               ///< target R_W <= 1 + imbalance (eq. 3.1/3.2)
+  double angle_weight = 1.0;             ///< lambda = angle_weight * mean separator edge length
+  bool boundary_corners = true;          ///< separator/boundary corners in the objective
+  int cvt_max_iterations = 80;           ///< L-BFGS iterations
   double cvt_gradient_tolerance = 1e-6;  ///< in the normalised frame (cell size 1)
   int refinement_passes = 10;
-  double exact_time_limit = 60;    ///< seconds per bisection (Exact)
+  double exact_time_limit = 60;  ///< seconds for the whole Exact run, shared by the bisections
   std::size_t exact_max_nodes = 400;
   /// Simplify boundaries for the CVT optimisation when they have more than
   /// 20 segments per cell (the final clip always uses the full boundary).
   bool proxy_domain = true;
   std::uint64_t seed = 0;
-  bool progress = false;           ///< progress on stderr
+  bool progress = false;  ///< progress on stderr
 };
 
 struct PartitionMetrics {
@@ -59,19 +59,25 @@ struct PartitionMetrics {
   double separator_length = 0;        ///< L_S (3.3), metric units
   double compactness = 0;             ///< R^_C = L_S / (k A_M) (3.5), as printed
   double compactness_normalized = 0;  ///< L_S / sqrt(k A_M), dimensionless
-  double angle_deviation = 0;         ///< delta^_theta (3.8), radians, separator corners
-  std::size_t corners = 0;            ///< N_C of (3.8)
+  /// delta^_theta (3.8), radians, over the corners formed by incident separators,
+  /// with straight separator edges shorter than corner_resolution cell sizes
+  /// contracted (design §1.4: such edges, e.g. between the two degree-3 vertices
+  /// that replace a four-cell junction of a near-grid CVT, have arbitrary directions).
+  double angle_deviation = 0;
+  std::size_t corners = 0;              ///< N_C of (3.8)
+  double corner_resolution = 0;         ///< the contraction length, in cell sizes
+  double angle_deviation_fine = 0;      ///< (3.8) with contraction only below 1e-3 cell sizes
   double junction_angle_deviation = 0;  ///< corners at junctions only (chord rule)
   std::size_t junction_corners = 0;
-  double region_area = 0;             ///< A_M, metric units
-  double area_error = 0;              ///< |sum of part areas - A_M| / A_M
+  double region_area = 0;                    ///< A_M, metric units
+  double area_error = 0;                     ///< |sum of part areas - A_M| / A_M
   std::size_t max_components_per_part = 0;   ///< after repair (1 when valid)
   std::size_t components_before_repair = 0;  ///< max over parts, before repair
   std::size_t cells = 0, graph_nodes = 0, graph_arcs = 0;
   double cvt_energy_initial = 0, cvt_energy_final = 0;
   int cvt_iterations = 0;
   std::string cvt_stop_reason;
-  double exact_gap = 0;               ///< Exact: worst relative MIP gap over bisections
+  double exact_gap = 0;  ///< Exact: worst relative MIP gap over bisections
   std::vector<std::pair<std::string, double>> stage_seconds;
   double peak_rss_mb = 0;
 };
@@ -98,11 +104,11 @@ struct Partition {
   /// part -> loops -> signed curve references: c >= 0 is curve c forwards,
   /// c < 0 is curve (-c - 1) reversed. Loop 0 is the outer loop (counter-clockwise).
   std::vector<std::vector<std::vector<std::int64_t>>> part_loops;
-  std::vector<Polygon2> parts;             ///< each part as a region, input coordinates
-  std::vector<double> part_areas;          ///< metric plane
-  std::vector<Vec2> sites;                 ///< CVT sites (metric plane), for pictures
+  std::vector<Polygon2> parts;     ///< each part as a region, input coordinates
+  std::vector<double> part_areas;  ///< metric plane
+  std::vector<Vec2> sites;         ///< CVT sites (metric plane), for pictures
   PartitionMetrics metrics;
-  std::string projection;                  ///< "" or "LAEA lat0=... lon0=... R=6371008.8"
+  std::string projection;  ///< "" or "LAEA lat0=... lon0=... R=6371008.8"
 };
 
 /// Partitions `region` into options.parts parts. InputError for an invalid region

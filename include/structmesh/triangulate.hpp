@@ -23,6 +23,12 @@ struct TriangulateOptions {
   /// drops below that floor (about 3 triangles per boundary segment on the Key and
   /// the Pipe): a smaller target returns the angle-only refinement.
   std::size_t target_triangles = 0;
+  /// With target_triangles > 0 and a boundary floor at or above the target: still
+  /// bound the edge length as a uniform mesh of target_triangles would, so no
+  /// interior triangle is larger than about A / target (the partitioning baselines
+  /// need node areas below a part's; the angle-only grading leaves triangles
+  /// spanning a sizeable share of the region).
+  bool bound_size_above_floor = false;
   /// > 0: before refinement, insert the points of a square grid of this spacing that
   /// lie inside the region and at least a quarter spacing from the boundary
   /// segments of the triangle they fall in. Without interior points a polygon's

@@ -60,6 +60,7 @@ Tessellation triangle_tessellation(const Polygon2& metric_region, const Frame& f
                                    bool madd) {
   TriangulateOptions options;
   options.target_triangles = target_triangles;
+  options.bound_size_above_floor = true;
   RegionTriangulation cdt = triangulate_region(metric_region, options);
 
   Tessellation tessellation;
@@ -132,8 +133,7 @@ void assign_boundary_rings(Tessellation& tessellation, const Polygon2& region) {
   const auto ring_of = [&](Index vertex) -> std::int32_t {
     const std::int64_t input = tessellation.input_vertex[vertex];
     if (input < 0) return -1;
-    const auto it = std::upper_bound(region.ring_offsets.begin(), region.ring_offsets.end(),
-                                     static_cast<Index>(input));
+    const auto it = std::upper_bound(region.ring_offsets.begin(), region.ring_offsets.end(), static_cast<Index>(input));
     return static_cast<std::int32_t>(it - region.ring_offsets.begin()) - 1;
   };
   // Each boundary vertex has exactly one outgoing boundary half-edge (rings

@@ -9,6 +9,7 @@
 #include "structmesh/error.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -215,13 +216,80 @@ CellGraph build_cell_graph(const Tessellation& tessellation, double contraction_
 
   // Corners (design §1.4). Contract node-separating edges shorter than the
   // contraction length: near co-circular sites Voronoi edges are tiny with arbitrary
-  // directions, and the two vertices are one corner of the partition.
+  // directions, and the two vertices are one corner of the partition. The length
+  // that counts is that of the whole straight *chain* the edge belongs to (pieces
+  // joined at pass-through vertices, where a Voronoi edge crosses a CDT edge): the
+  // pieces of a long edge near a finely sampled boundary are tiny, but contracting
+  // them would glue real corners together along the edge.
   DisjointSets clusters(vertex_count);
   std::size_t contracted = 0;
-  for (const EdgeRecord& e : separating) {
-    if (e.length < contraction_length) {
-      clusters.unite(fv[e.half_edge], head(e.half_edge));
-      ++contracted;
+  {
+    constexpr Index kNone = kInvalidIndex;
+    std::vector<std::array<Index, 2>> incident(vertex_count, {kNone, kNone});  // first two separating edges
+    std::vector<std::uint8_t> degree(vertex_count, 0);  // separating edges, saturating at 3; 3 also marks boundary
+    const auto touch = [&](Index v, Index e) {
+      if (degree[v] < 2) incident[v][degree[v]] = e;
+      if (degree[v] < 3) ++degree[v];
+    };
+    for (Index e = 0; e < separating.size(); ++e) {
+      touch(fv[separating[e].half_edge], e);
+      touch(head(separating[e].half_edge), e);
+    }
+    for (Index h = 0; h < half_edge_count; ++h) {
+      if (twin[h] != kInvalidIndex) continue;
+      degree[fv[h]] = 3;
+      degree[head(h)] = 3;
+    }
+    DisjointSets chains(separating.size());
+    for (Index v = 0; v < vertex_count; ++v) {
+      if (degree[v] != 2) continue;
+      const auto far_end = [&](Index e) {
+        const Index h = separating[e].half_edge;
+        return fv[h] == v ? head(h) : fv[h];
+      };
+      const Vec2 a = pos[far_end(incident[v][0])] - pos[v], b = pos[far_end(incident[v][1])] - pos[v];
+      const double cross = a.x() * b.y() - a.y() * b.x();
+      if (a.dot(b) < 0 && std::abs(cross) <= 1e-9 * a.norm() * b.norm()) chains.unite(incident[v][0], incident[v][1]);
+    }
+    std::vector<double> chain_length(separating.size(), 0.0);
+    for (Index e = 0; e < separating.size(); ++e) chain_length[chains.find(e)] += separating[e].length;
+    // Short chains, shortest first; a chain joins the clusters at its ends only while
+    // the merged cluster stays within contraction_length across (bounding box
+    // diagonal), so a run of short edges along a finely sampled boundary cannot grow
+    // one cluster over many real corners.
+    std::vector<std::pair<Index, Index>> short_edges;  // (chain, edge)
+    for (Index e = 0; e < separating.size(); ++e) {
+      const Index chain = chains.find(e);
+      if (chain_length[chain] < contraction_length) short_edges.emplace_back(chain, e);
+    }
+    std::sort(short_edges.begin(), short_edges.end(), [&](const auto& x, const auto& y) {
+      if (chain_length[x.first] != chain_length[y.first]) return chain_length[x.first] < chain_length[y.first];
+      return x < y;
+    });
+    std::vector<Vec2> box_min(pos.begin(), pos.end()), box_max(pos.begin(), pos.end());  // per cluster root
+    for (std::size_t begin = 0; begin < short_edges.size();) {
+      std::size_t end = begin;
+      while (end < short_edges.size() && short_edges[end].first == short_edges[begin].first) ++end;
+      Vec2 lo = box_min[clusters.find(fv[separating[short_edges[begin].second].half_edge])], hi = lo;
+      for (std::size_t i = begin; i < end; ++i) {
+        const Index h = separating[short_edges[i].second].half_edge;
+        for (const Index v : {fv[h], head(h)}) {
+          const Index r = clusters.find(v);
+          lo = lo.cwiseMin(box_min[r]);
+          hi = hi.cwiseMax(box_max[r]);
+        }
+      }
+      if ((hi - lo).norm() <= contraction_length) {
+        for (std::size_t i = begin; i < end; ++i) {
+          const Index h = separating[short_edges[i].second].half_edge;
+          clusters.unite(fv[h], head(h));
+          ++contracted;
+        }
+        const Index r = clusters.find(fv[separating[short_edges[begin].second].half_edge]);
+        box_min[r] = lo;
+        box_max[r] = hi;
+      }
+      begin = end;
     }
   }
   // Spokes: every node-separating and every region-boundary edge at its ends. The

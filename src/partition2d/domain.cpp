@@ -28,8 +28,8 @@ constexpr double kDegree = std::numbers::pi / 180.0;
 Vec2 Projection::forward(const Vec2& lonlat) const {
   const double phi0 = lat0 * kDegree, lambda0 = lon0 * kDegree;
   const double phi = lonlat.y() * kDegree, dlambda = lonlat.x() * kDegree - lambda0;
-  const double k = std::sqrt(2.0 / (1.0 + std::sin(phi0) * std::sin(phi) +
-                                    std::cos(phi0) * std::cos(phi) * std::cos(dlambda)));
+  const double k =
+      std::sqrt(2.0 / (1.0 + std::sin(phi0) * std::sin(phi) + std::cos(phi0) * std::cos(phi) * std::cos(dlambda)));
   return {kEarthRadius * k * std::cos(phi) * std::sin(dlambda),
           kEarthRadius * k * (std::cos(phi0) * std::sin(phi) - std::sin(phi0) * std::cos(phi) * std::cos(dlambda))};
 }
@@ -40,8 +40,8 @@ Vec2 Projection::inverse(const Vec2& xy) const {
   if (rho == 0) return {lon0, lat0};
   const double c = 2.0 * std::asin(std::min(1.0, rho / (2.0 * kEarthRadius)));
   const double phi = std::asin(std::cos(c) * std::sin(phi0) + xy.y() * std::sin(c) * std::cos(phi0) / rho);
-  const double lambda = std::atan2(xy.x() * std::sin(c),
-                                   rho * std::cos(phi0) * std::cos(c) - xy.y() * std::sin(phi0) * std::sin(c));
+  const double lambda =
+      std::atan2(xy.x() * std::sin(c), rho * std::cos(phi0) * std::cos(c) - xy.y() * std::sin(phi0) * std::sin(c));
   return {lon0 + lambda / kDegree, phi / kDegree};
 }
 

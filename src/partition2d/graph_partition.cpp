@@ -580,13 +580,17 @@ class Refiner {
 // The recursive driver.
 // ---------------------------------------------------------------------------------
 
+bool is_baseline(GraphPartitionOptions::Engine engine) {
+  return engine == GraphPartitionOptions::Engine::MetisKway || engine == GraphPartitionOptions::Engine::MetisRecursive;
+}
+
 class Partitioner {
  public:
   Partitioner(const CellGraph& graph, const GraphPartitionOptions& options, GraphPartitionReport& report)
       : graph_(graph),
         options_(options),
         report_(report),
-        lambda_(options.angle_weight * mean_arc(graph)),
+        lambda_(is_baseline(options.engine) ? 0.0 : options.angle_weight * mean_arc(graph)),
         tolerance_(detail::bisection_tolerance(options.parts, options.imbalance)),
         labels_(graph.node_count(), 0),
         local_of_(graph.node_count(), kInvalidIndex),
@@ -910,6 +914,17 @@ class Partitioner {
     fill_empty_parts();
     report_.components_before_repair = max_components_per_part(graph_, labels_, k);
     if (report_.components_before_repair > 1) report_.moved_by_repair += repair_connectivity(graph_, labels_, k);
+    // METIS can return an empty part (filled above with one node) and the repair can
+    // hand a large piece to a neighbour; a baseline with R_W in the thousands would
+    // be a straw man. So the baselines get the same balancing pass as CVT-GP, on
+    // separator length alone (lambda = 0 for them), and no refinement: METIS's cuts
+    // are kept wherever the band allows.
+    double total = 0;
+    for (double a : graph_.node_area) total += a;
+    const double mean = total / static_cast<double>(k), root = std::sqrt(1 + options_.imbalance);
+    for (std::size_t p = 0; p < k; ++p) refiner_.activate(static_cast<Label>(p), mean / root, mean * root);
+    for (std::size_t v = 0; v < labels_.size(); ++v) refiner_.add_area(labels_[v], graph_.node_area[v]);
+    refiner_.balance(all);
   }
 
   /// METIS can return empty parts with METIS_OK (KarypisLab/METIS#91): an empty part

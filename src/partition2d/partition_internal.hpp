@@ -51,7 +51,7 @@ struct DomainMesh {
 /// equal-area keeps R_W honest over the Gulf of Mexico's 13° of latitude.
 struct Projection {
   bool active = false;
-  double lat0 = 0, lon0 = 0;  ///< degrees, the centre of the region's bounding box
+  double lat0 = 0, lon0 = 0;               ///< degrees, the centre of the region's bounding box
   Vec2 forward(const Vec2& lonlat) const;  ///< degrees -> metres
   Vec2 inverse(const Vec2& xy) const;      ///< metres -> degrees
   std::string describe() const;            ///< "" when inactive
@@ -76,13 +76,13 @@ Polygon2 proxy_region(const Polygon2& metric_region, double tolerance, double mi
 // ---------------------------------------------------------------------------------
 
 struct Tessellation {
-  std::vector<Vec2> vertices;               ///< normalised frame
-  std::vector<std::int64_t> input_vertex;   ///< region point index, or -1
+  std::vector<Vec2> vertices;              ///< normalised frame
+  std::vector<std::int64_t> input_vertex;  ///< region point index, or -1
   /// Faces: CSR, counter-clockwise, no repeated consecutive vertex. Half-edge h of
   /// face f goes from face_vertices[h] to the next vertex of f (cyclically).
   std::vector<Index> face_offsets{0};
   std::vector<Index> face_vertices;
-  std::vector<Index> face_cell;             ///< cell (site / triangle group) of each face
+  std::vector<Index> face_cell;  ///< cell (site / triangle group) of each face
   /// Per half-edge: the opposite half-edge (same two vertices reversed), or
   /// kInvalidIndex on the region boundary. Every interior half-edge has exactly one twin.
   std::vector<Index> twin;
@@ -204,9 +204,9 @@ CellGraph build_cell_graph(const Tessellation& tessellation, double contraction_
 double angle_deviation(double theta);
 
 struct CornerCost {
-  double separator_sum = 0;       ///< sum of delta over corners of incident separators (3.8)
+  double separator_sum = 0;  ///< sum of delta over corners of incident separators (3.8)
   std::size_t separator_corners = 0;
-  double boundary_sum = 0;        ///< sum of delta over separator/boundary corners
+  double boundary_sum = 0;  ///< sum of delta over separator/boundary corners
   std::size_t boundary_corners = 0;
 };
 
@@ -233,7 +233,7 @@ struct GraphPartitionOptions {
   Engine engine = Engine::RecursiveGp;
   std::size_t parts = 2;
   double imbalance = 0.05;
-  double angle_weight = 1.0;       ///< lambda = angle_weight * graph.mean_arc_length
+  double angle_weight = 1.0;  ///< lambda = angle_weight * graph.mean_arc_length
   bool boundary_corners = true;
   int refinement_passes = 10;
   double exact_time_limit = 60;  ///< seconds for the whole run (Exact), shared by the bisections
@@ -243,7 +243,7 @@ struct GraphPartitionOptions {
 struct GraphPartitionReport {
   std::size_t components_before_repair = 0;  ///< max components of a part before repair
   std::size_t moved_by_repair = 0;
-  double exact_gap = 0;                      ///< Exact: worst relative gap
+  double exact_gap = 0;  ///< Exact: worst relative gap
   bool exact_proven = true;
   bool balanced = false;  ///< R_W (3.2) = max / min part area <= 1 + imbalance
 };
@@ -284,9 +284,8 @@ struct CoordinateMaps {
 /// Input vertices are copied from `region` by index. Vertices interior to a straight
 /// stretch of a part boundary (neither input vertex nor junction nor a turn) are
 /// dropped, the same way for both sides. Error when a part is not one piece.
-void build_part_geometry(const Tessellation& tessellation, std::span<const std::int32_t> face_part,
-                         std::size_t parts, const Polygon2& region, const CoordinateMaps& maps,
-                         Partition& partition);
+void build_part_geometry(const Tessellation& tessellation, std::span<const std::int32_t> face_part, std::size_t parts,
+                         const Polygon2& region, const CoordinateMaps& maps, Partition& partition);
 
 /// R_W, L_S, R^_C (both), junction deviation (chord rule, chord length
 /// `chord_length` metric units), area error and components, from the geometry.

@@ -276,14 +276,21 @@ std::size_t inside_count(const Cdt& cdt) {
 // bound dominates; with the floor estimate below, first attempts land 0–26% off).
 // The count is then corrected (count ∝ 1/s²) until within ±25%, at most 4 attempts
 // (best effort); refining further works in place, coarsening needs a rebuild.
-void refine(const Polygon2& region, std::size_t target, double steiner_spacing, Cdt& cdt) {
+void refine(const Polygon2& region, std::size_t target, double steiner_spacing, bool bound_size_above_floor, Cdt& cdt) {
   using Criteria = CGAL::Delaunay_mesh_size_criteria_2<Cdt>;
   constexpr double kShapeBound = 0.125;
   CGAL::refine_Delaunay_mesh_2(cdt, Criteria(kShapeBound, 0), true);
   mark_domain(cdt);
   const auto wanted = static_cast<double>(target);
   const auto floor_count = static_cast<double>(inside_count(cdt));
-  if (floor_count >= 0.8 * wanted) return;
+  if (floor_count >= 0.8 * wanted) {
+    if (bound_size_above_floor) {
+      CGAL::refine_Delaunay_mesh_2(
+          cdt, Criteria(kShapeBound, 1.45 * std::sqrt(4.0 * std::abs(area(region)) / (std::sqrt(3.0) * wanted))), true);
+      mark_domain(cdt);
+    }
+    return;
+  }
 
   // About half the boundary-graded triangles survive inside the size-bounded mesh.
   const double interior = std::max(wanted - 0.5 * floor_count, 0.5 * wanted);
@@ -308,7 +315,8 @@ RegionTriangulation triangulate_region(const Polygon2& region, const Triangulate
   check_rings(region);
   Cdt cdt;
   build(region, options.steiner_spacing, cdt);
-  if (options.target_triangles > 0) refine(region, options.target_triangles, options.steiner_spacing, cdt);
+  if (options.target_triangles > 0)
+    refine(region, options.target_triangles, options.steiner_spacing, options.bound_size_above_floor, cdt);
 
   // Deterministic, spatially local triangle order (§2.1): Hilbert order of centroids.
   std::vector<FaceHandle> faces;

@@ -87,7 +87,8 @@ TEST(PartitionDomain, SteinerGridTriangulationIsConforming) {
   // Triangles are at most about a grid spacing across in the interior: no long slivers.
   double longest = 0;
   for (const auto& tri : domain.triangles) {
-    for (int k = 0; k < 3; ++k) longest = std::max(longest, (domain.points[tri[k]] - domain.points[tri[(k + 1) % 3]]).norm());
+    for (int k = 0; k < 3; ++k)
+      longest = std::max(longest, (domain.points[tri[k]] - domain.points[tri[(k + 1) % 3]]).norm());
   }
   EXPECT_LT(longest, 2.0);
 }
