@@ -15,7 +15,7 @@ result="$root/bench/results/partition2d.md"
   cat "$root/bench/partition2d/notes.md"
   echo
   echo "## Runtime and memory on a 1M-segment boundary (each in its own process)"
-  "$bench" large 1000000
+  for n in 250000 500000 1000000; do "$bench" large $n; done
   echo
   echo "## Tables 3.1/3.2 recomputed (default options: p = 8, imbalance 5%, cells = max(4000, 24k))"
   "$bench" tables "$data" "${SEGMENTS:-20000}"

@@ -158,7 +158,11 @@ class Refiner {
         visit_stamp_(graph.node_count(), 0),
         key_(graph.node_count(), kInf),
         locked_(graph.node_count(), 0),
-        eps_(1e-9 * mean_arc(graph)) {}
+        eps_(1e-9 * mean_arc(graph)) {
+    double total = 0;
+    for (double a : graph.node_area) total += a;
+    mean_node_area_ = graph.node_count() > 0 ? total / static_cast<double>(graph.node_count()) : 0.0;
+  }
 
   /// Makes `label` movable with area band [lo, hi]; its area is summed over `nodes`.
   void activate(Label label, double lo, double hi) {
@@ -291,19 +295,24 @@ class Refiner {
         members_fresh = true;
       }
       const bool surplus = area_[worst] > hi_[worst];
-      const std::vector<Label> chain = part_chain(worst, surplus);
+      // First a chain to a part with room for a mean cell, else one past its middle.
+      std::vector<Label> chain = part_chain(worst, surplus, mean_node_area_);
+      if (chain.size() < 2) chain = part_chain(worst, surplus, -1);
       if (chain.size() < 2) {
         if (members_fresh) stuck[worst] = 1;
         members_dirty = true;
+        blocked_.clear();
         continue;
       }
       const double before = total_violation();
       std::vector<std::pair<Index, Label>> undo;
       bool ok = true;
+      std::pair<Label, Label> failed_hop{-1, -1};
       // Fill the receiving end first so every intermediate part only passes area on.
       for (std::size_t hop = chain.size() - 1; hop-- > 0;) {
         const Index v = cheapest_transfer(chain[hop], chain[hop + 1]);
         if (v == kInvalidIndex) {
+          failed_hop = {chain[hop], chain[hop + 1]};
           ok = false;
           break;
         }
@@ -313,9 +322,17 @@ class Refiner {
       if (ok && total_violation() < before - 1e-12 * std::max(1.0, before)) {
         kept += undo.size();
         members_fresh = false;
+        blocked_.clear();
         continue;
       }
       for (auto it = undo.rbegin(); it != undo.rend(); ++it) apply(it->first, it->second);
+      // A hop with no movable cell (every candidate would disconnect or pinch its
+      // part) is blocked and another chain tried, a few times, before giving up.
+      if (!ok && blocked_.size() < kMaxBlockedHops) {
+        blocked_.push_back(failed_hop);
+        continue;
+      }
+      blocked_.clear();
       if (members_fresh) stuck[worst] = 1;
       members_dirty = true;  // retry once on the current membership
     }
@@ -504,10 +521,16 @@ class Refiner {
     for (Index v : nodes) members_[fill[labels_[v]]++] = v;
   }
 
+  bool is_blocked(Label p, Label q) const {
+    for (const auto& [a, b] : blocked_)
+      if ((a == p && b == q) || (a == q && b == p)) return true;
+    return false;
+  }
+
   /// Shortest chain of adjacent active parts from a part with surplus to one with
   /// room (below / above the middle of its band), found by BFS from `part`.
   /// Returned from the giving end to the receiving end.
-  std::vector<Label> part_chain(Label part, bool surplus) {
+  std::vector<Label> part_chain(Label part, bool surplus, double need) {
     std::vector<Label> parent(area_.size(), -2);
     std::vector<Label> queue{part};
     parent[part] = -1;
@@ -519,10 +542,14 @@ class Refiner {
         for (Index a = graph_.adjacency_offsets[v]; a < graph_.adjacency_offsets[v + 1]; ++a) {
           const Label q = labels_[graph_.adjacency[a]];
           if (!active_[q] || parent[q] != -2) continue;
+          if (is_blocked(p, q)) continue;
           parent[q] = p;
           queue.push_back(q);
-          const double middle = 0.5 * (lo_[q] + hi_[q]);
-          if (surplus ? area_[q] < middle : area_[q] > middle) {
+          // The far end must have room for about one cell: with cells wider than
+          // half the band, a part merely past the middle of its band would just
+          // fall out of it on the other side.
+          const double room = surplus ? hi_[q] - area_[q] : area_[q] - lo_[q];
+          if (room >= (need > 0 ? need : 0.5 * (hi_[q] - lo_[q]))) {
             found = q;
             break;
           }
@@ -537,10 +564,16 @@ class Refiner {
     return chain;
   }
 
-  /// The feasible node of `from` adjacent to `to` with the smallest dJ.
+  /// The feasible node of `from` adjacent to `to` whose move leaves the two parts'
+  /// band violation smallest, then with the smallest dJ. Violation first: with about
+  /// 30 cells per part a typical cell is wider than half the band, so the cheapest
+  /// cell by dJ would often overshoot the giving part and the chain be rejected,
+  /// while a smaller (e.g. boundary-clipped) cell fits.
   Index cheapest_transfer(Label from, Label to) {
     Index best = kInvalidIndex;
-    double best_gain = kInf;
+    double best_violation = kInf, best_gain = kInf;
+    const double before = violation(from, area_[from]) + violation(to, area_[to]);
+    const double tolerance = 1e-12 * std::max(1.0, area_[from]);
     for (Index i = member_offsets_[from]; i < member_offsets_[from + 1]; ++i) {
       const Index v = members_[i];
       if (labels_[v] != from) continue;  // moved earlier in this chain
@@ -548,9 +581,13 @@ class Refiner {
       for (Index a = graph_.adjacency_offsets[v]; a < graph_.adjacency_offsets[v + 1] && !adjacent; ++a)
         adjacent = labels_[graph_.adjacency[a]] == to;
       if (!adjacent) continue;
+      const double a = graph_.node_area[v];
+      const double change = violation(from, area_[from] - a) + violation(to, area_[to] + a) - before;
+      if (change > best_violation + tolerance) continue;
       const double g = gain(v, to);
-      if (g >= best_gain) continue;
+      if (change >= best_violation - tolerance && g >= best_gain) continue;
       if (!source_stays_connected(v) || creates_pinch(v, to)) continue;
+      best_violation = change;
       best_gain = g;
       best = v;
     }
@@ -574,6 +611,9 @@ class Refiner {
   std::vector<std::pair<Index, Label>> log_;
   std::vector<Index> member_offsets_, members_;
   double eps_;
+  double mean_node_area_ = 0;
+  static constexpr std::size_t kMaxBlockedHops = 16;
+  std::vector<std::pair<Label, Label>> blocked_;  // hops of the balancing pass found impossible
 };
 
 // ---------------------------------------------------------------------------------
