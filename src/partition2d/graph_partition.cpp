@@ -564,14 +564,16 @@ class Refiner {
     return chain;
   }
 
-  /// The feasible node of `from` adjacent to `to` whose move leaves the two parts'
-  /// band violation smallest, then with the smallest dJ. Violation first: with about
-  /// 30 cells per part a typical cell is wider than half the band, so the cheapest
-  /// cell by dJ would often overshoot the giving part and the chain be rejected,
-  /// while a smaller (e.g. boundary-clipped) cell fits.
+  /// The feasible node of `from` adjacent to `to` with the smallest dJ among those
+  /// whose move does not add band violation to the two parts; when there is none,
+  /// the one adding the least. With about 30 cells per part a typical cell is wider
+  /// than half the band, so the cheapest cell by dJ alone would often overshoot the
+  /// giving part and the chain be rejected, while a smaller (e.g. boundary-clipped)
+  /// cell fits.
   Index cheapest_transfer(Label from, Label to) {
     Index best = kInvalidIndex;
-    double best_violation = kInf, best_gain = kInf;
+    bool best_fits = false;
+    double best_change = kInf, best_gain = kInf;
     const double before = violation(from, area_[from]) + violation(to, area_[to]);
     const double tolerance = 1e-12 * std::max(1.0, area_[from]);
     for (Index i = member_offsets_[from]; i < member_offsets_[from + 1]; ++i) {
@@ -583,11 +585,14 @@ class Refiner {
       if (!adjacent) continue;
       const double a = graph_.node_area[v];
       const double change = violation(from, area_[from] - a) + violation(to, area_[to] + a) - before;
-      if (change > best_violation + tolerance) continue;
+      const bool fits = change <= tolerance;
+      if (best_fits && !fits) continue;
+      if (!fits && change > best_change + tolerance) continue;
       const double g = gain(v, to);
-      if (change >= best_violation - tolerance && g >= best_gain) continue;
+      if (fits == best_fits && (fits || change >= best_change - tolerance) && g >= best_gain) continue;
       if (!source_stays_connected(v) || creates_pinch(v, to)) continue;
-      best_violation = change;
+      best_fits = fits;
+      best_change = change;
       best_gain = g;
       best = v;
     }
@@ -673,8 +678,8 @@ class Partitioner {
  private:
   void bisect(std::vector<Index> nodes, Label first, std::size_t k) {
     if (k < 2) return;
-    const std::size_t k0 = k / 2, k1 = k - k0;
-    const Label second = first + static_cast<Label>(k0);
+    std::size_t k0 = k / 2, k1 = k - k0;
+    Label second = first + static_cast<Label>(k0);
     detail::BisectionProblem problem = detail::make_bisection(graph_, std::move(nodes), first, second, k0, k1,
                                                               tolerance_, lambda_, options_.boundary_corners);
     if (options_.engine == GraphPartitionOptions::Engine::Exact) {
@@ -684,6 +689,26 @@ class Partitioner {
     }
     std::vector<Index> side0, side1;
     for (Index v : problem.nodes) (labels_[v] == first ? side0 : side1).push_back(v);
+    // Beyond the dissertation: when the geometry keeps a bisection more than half a
+    // part's area from its target (a sound reachable only through a narrow channel,
+    // whose cells cannot all move without cutting it off), the part counts follow
+    // the areas instead, k0 = round(k A0 / A), so the deeper bisections can balance.
+    if (options_.engine == GraphPartitionOptions::Engine::RecursiveGp) {
+      double area0 = 0, area1 = 0;
+      for (Index v : side0) area0 += graph_.node_area[v];
+      for (Index v : side1) area1 += graph_.node_area[v];
+      const double part = (area0 + area1) / static_cast<double>(k);
+      if (std::abs(area0 - part * static_cast<double>(k0)) > 0.5 * part) {
+        const auto adapted = static_cast<std::size_t>(
+            std::clamp<long long>(std::llround(area0 / part), 1, static_cast<long long>(k) - 1));
+        if (adapted <= side0.size() && k - adapted <= side1.size()) {
+          k0 = adapted;
+          k1 = k - k0;
+          second = first + static_cast<Label>(k0);
+          for (Index v : side1) labels_[v] = second;
+        }
+      }
+    }
     if (side0.size() < k0 || side1.size() < k1) {
       throw InputError("partition_cell_graph: a bisection left fewer cells than parts on one side (" +
                        std::to_string(side0.size()) + " cells for " + std::to_string(k0) + " parts, " +

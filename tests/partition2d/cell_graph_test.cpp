@@ -340,6 +340,58 @@ TEST(CellGraph, ContractionMergesVerticesOfATinyEdge) {
   EXPECT_NEAR(b.separator_sum, kPi, 1e-4);
 }
 
+// Two unit squares side by side whose shared edge x = 1 is split into `pieces`
+// collinear pieces (as where a Voronoi edge crosses many fine CDT edges).
+Tessellation split_separator_tessellation(int pieces) {
+  std::vector<Vec2> left{{0, 0}, {1, 0}}, right{{1, 0}, {2, 0}, {2, 1}, {1, 1}};
+  for (int i = 1; i < pieces; ++i) left.emplace_back(1, static_cast<double>(i) / pieces);
+  left.emplace_back(1, 1);
+  left.emplace_back(0, 1);
+  for (int i = pieces - 1; i > 0; --i) right.emplace_back(1, static_cast<double>(i) / pieces);
+  return testing::polygon_tessellation({left, right});
+}
+
+TEST(CellGraph, ContractionMeasuresWholeStraightChains) {
+  // 100 pieces of length 0.01 each, contraction 0.1: the chain is 1 long, so
+  // nothing is contracted and the only corners are the two ends on the boundary
+  // (plus the four plain boundary corners, which are not corners).
+  const CellGraph graph = build_cell_graph(split_separator_tessellation(100), 0.1);
+  expect_well_formed(graph);
+  ASSERT_EQ(graph.corner_position.size(), 2u);
+  for (Index c = 0; c < 2; ++c) {
+    EXPECT_NEAR(graph.corner_position[c].x(), 1.0, 1e-12);
+    EXPECT_EQ(spokes_of(graph, c).size(), 3u);  // the separator and two boundary edges
+  }
+  const CornerCost cost = corner_cost(graph, std::vector<std::int32_t>{0, 1});
+  EXPECT_EQ(cost.separator_corners, 0u);
+  EXPECT_EQ(cost.boundary_corners, 4u);
+  EXPECT_NEAR(cost.boundary_sum, 0, 1e-12);  // the separator meets the boundary at 90°
+}
+
+TEST(CellGraph, ContractedClustersStaySmall) {
+  // A zigzag separator of 40 edges, each 0.05 long at +-45°, between two cells:
+  // contraction 0.1 may merge neighbouring zigzag vertices but no cluster may span
+  // more than 0.1, so many corners remain (one cluster would leave none inside).
+  const int n = 40;
+  const double step = 0.05 / std::sqrt(2.0);
+  std::vector<Vec2> zig;
+  for (int i = 0; i <= n; ++i) zig.emplace_back((i % 2) * step, i * step);
+  const double top = n * step;
+  // Counter-clockwise: the left cell goes up the zigzag, the right cell down it.
+  std::vector<Vec2> left_ccw{{-1, 0}};
+  left_ccw.insert(left_ccw.end(), zig.begin(), zig.end());
+  left_ccw.emplace_back(-1, top);
+  std::vector<Vec2> right_ccw{zig.front(), {1, 0}, {1, top}};
+  right_ccw.insert(right_ccw.end(), zig.rbegin(), zig.rend() - 1);
+  const CellGraph graph = build_cell_graph(testing::polygon_tessellation({left_ccw, right_ccw}), 0.1);
+  expect_well_formed(graph);
+  std::size_t interior = 0;
+  for (const Vec2& c : graph.corner_position)
+    if (c.y() > 1e-9 && c.y() < top - 1e-9) ++interior;
+  EXPECT_GE(interior, 8u);
+  EXPECT_LE(interior, static_cast<std::size_t>(n - 1));
+}
+
 TEST(CellGraph, TriangleTessellationOfTheKey) {
   // The METIS/MADD baselines' tessellation of a real region: areas add up, the CSR is
   // well formed, and around every corner consecutive sectors belong to different
