@@ -153,7 +153,7 @@ int check_region_file(const GlobalOptions& global, const std::string& file, cons
   const std::vector<Polygon2> polygons = read_region(file);
   const RegionReport r = check_region(polygons, options);
   const bool lonlat = !polygons.empty() && polygons.front().coordinates == Polygon2::Coordinates::LonLat;
-  say(global, file + ": region");
+  say(global, file + (options.shared_boundaries ? ": partition (polygons may share boundaries)" : ": region"));
   row(global, "polygons / rings / holes",
       std::to_string(r.polygons) + " / " + std::to_string(r.rings) + " / " + std::to_string(r.holes));
   row(global, "vertices", std::to_string(r.vertices));
@@ -168,7 +168,7 @@ int check_region_file(const GlobalOptions& global, const std::string& file, cons
   row(global, "valid", yes_no(r.valid));
   print_problems(global, file, r.problems);
   write_json_report(global, {{"file", file},
-                             {"kind", "region"},
+                             {"kind", options.shared_boundaries ? "partition" : "region"},
                              {"coordinates", lonlat ? "lonlat" : "planar"},
                              {"polygons", r.polygons},
                              {"rings", r.rings},
@@ -201,7 +201,7 @@ Action add_check_command(CLI::App& command, const GlobalOptions& global) {
                   "Surface (.obj .off .ply .stl), volume or planar mesh (.mesh .msh .vtu), or region (.geojson .poly)")
       ->required();
   command.add_option("--as", settings->as, "What to check the file as")
-      ->check(CLI::IsMember({"auto", "surface", "volume", "planar", "region"}));
+      ->check(CLI::IsMember({"auto", "surface", "volume", "planar", "region", "partition"}));
   command.add_flag("--no-self-intersections", settings->skip_self_intersections,
                    "Skip the (costly) self-intersection test of surfaces");
   command.add_option("--max-problems", settings->max_problems, "Problems listed per kind (counts stay complete)");
@@ -212,7 +212,8 @@ Action add_check_command(CLI::App& command, const GlobalOptions& global) {
     const FileFormat format = format_from_path(settings->file);
     std::string as = settings->as;
     if (as == "auto" && (format == FileFormat::GeoJson || format == FileFormat::Poly)) as = "region";
-    if (as == "region") return check_region_file(global, settings->file, options);
+    if (as == "partition") options.shared_boundaries = true;  // parts of partition2d's output
+    if (as == "region" || as == "partition") return check_region_file(global, settings->file, options);
     const MeshBundle mesh = read_mesh(settings->file);
     if (as == "auto") {
       // A mesh whose points all share one z is a 2D mesh, never a solid's boundary.

@@ -43,6 +43,11 @@ struct CheckOptions {
   std::size_t max_problems_per_kind = 20;
   bool self_intersections = true;  // the costly test (CGAL box intersection + exact predicates);
                                    // when off, validity does not consider it
+  // Regions only: the polygons are the parts of a partition, so two polygons may
+  // share boundary (touching or collinear segments of different polygons are fine;
+  // crossings are not). The containment test between polygons is skipped: a
+  // vertex on a shared boundary cannot tell inside from outside.
+  bool shared_boundaries = false;
 };
 
 SurfaceReport check_surface(const MeshBundle& mesh, const CheckOptions& options = {});

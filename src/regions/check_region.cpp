@@ -341,9 +341,10 @@ RegionReport check_region(const std::vector<Polygon2>& polygons, const CheckOpti
     const Segment& t = segments[pair & 0xffffffffu];
     RingInfo& rs = rings[s.ring];
     RingInfo& rt = rings[t.ring];
+    const bool cross = detail::segment_contact(s.a, s.b, t.a, t.b) == detail::SegmentContact::Cross;
+    if (options.shared_boundaries && !cross && rs.polygon != rt.polygon) continue;
     rs.intersected = rt.intersected = true;
     ++report.self_intersections;
-    const bool cross = detail::segment_contact(s.a, s.b, t.a, t.b) == detail::SegmentContact::Cross;
     auto describe = [](const RingInfo& ring, const Segment& segment) {
       return ring_name(ring) + " segment " + std::to_string(ring.kept[segment.k]) + "-" +
              std::to_string(ring.kept[(segment.k + 1) % ring.kept.size()]);
@@ -383,6 +384,7 @@ RegionReport check_region(const std::vector<Polygon2>& polygons, const CheckOpti
       continue;
     }
     // An outer ring in another polygon's interior (inside its outer ring, in none of its holes).
+    if (options.shared_boundaries) continue;
     for (std::uint32_t q = 0; q < polygons.size(); ++q) {
       if (q == info.polygon || first_ring_of[q] == first_ring_of[q + 1] || !inside(first_ring_of[q])) continue;
       bool in_hole = false;

@@ -121,10 +121,11 @@ expect 0 "planar mesh" -- "$sm" check "$work/quads.mesh"
 sed 's/^2 3 6 5 0$/5 6 3 2 0/' "$work/quads.mesh" >"$work/flipped.mesh"
 expect 2 "flipped\.mesh:14: inverted-element" -- "$sm" check "$work/flipped.mesh"
 
-# partition2d: the parts file reads back as a valid multi-polygon region, the report has the metrics
+# partition2d: the parts file reads back as a valid partition (parts share edges), the report has the metrics
 expect 0 "R_W" -- "$sm" partition2d key --segments 2000 --parts 8 --cells 600 -o "$work/parts.geojson" \
   -o "$work/parts.svg" -o "$work/parts.png" --json "$work/parts.json"
-expect 0 "polygons / rings / holes +8 /" -- "$sm" check "$work/parts.geojson"
+expect 0 "polygons / rings / holes +8 /" -- "$sm" check "$work/parts.geojson" --as partition
+expect 2 "touches polygon" -- "$sm" check "$work/parts.geojson"  # as one region, parts sharing edges are invalid
 [[ $(json_field "$work/parts.json" "['parts']") == 8 ]] || { echo "FAIL: partition2d report parts"; failed=$((failed + 1)); }
 [[ $(json_field "$work/parts.json" "['max_components_per_part']") == 1 ]] || { echo "FAIL: partition2d components"; failed=$((failed + 1)); }
 head -c 8 "$work/parts.png" | od -An -c | grep -q "P   N   G" || { echo "FAIL: parts.png is not a PNG"; failed=$((failed + 1)); }

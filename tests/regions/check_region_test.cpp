@@ -319,3 +319,31 @@ TEST(CheckRegion, ManySmallHolesScale) {
 
 }  // namespace
 }  // namespace structmesh
+
+namespace structmesh {
+namespace {
+
+TEST(CheckRegion, PartitionPartsMayShareBoundariesButNotCross) {
+  // Two unit squares side by side (the right one with an extra vertex on the shared
+  // edge, as neighbouring parts of a partition have): invalid as one region, valid
+  // as a partition. Overlapping squares stay invalid either way.
+  const std::vector<Polygon2> tiles{test::make_polygon({test::rectangle(0, 0, 1, 1)}),
+                                    test::make_polygon({std::vector<Vec2>{{1, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 0.5}}})};
+  EXPECT_FALSE(check_region(tiles).valid);
+  CheckOptions partition;
+  partition.shared_boundaries = true;
+  const RegionReport shared = check_region(tiles, partition);
+  EXPECT_TRUE(shared.valid) << (shared.problems.empty() ? "" : shared.problems.front().message);
+  EXPECT_EQ(shared.self_intersections, 0u);
+  const std::vector<Polygon2> overlapping{test::make_polygon({test::rectangle(0, 0, 1, 1)}),
+                                          test::make_polygon({test::rectangle(0.5, 0.5, 1.5, 1.5)})};
+  const RegionReport crossed = check_region(overlapping, partition);
+  EXPECT_FALSE(crossed.valid);
+  EXPECT_GT(crossed.self_intersections, 0u);
+  // A part that is invalid on its own is still reported.
+  const std::vector<Polygon2> bowtie{test::make_polygon({std::vector<Vec2>{{0, 0}, {2, 2}, {2, 0}, {0, 2}}})};
+  EXPECT_FALSE(check_region(bowtie, partition).valid);
+}
+
+}  // namespace
+}  // namespace structmesh
