@@ -5,6 +5,8 @@
 #include "structmesh/partition2d.hpp"
 #include "structmesh/render.hpp"
 
+#include "render/svg_number.hpp"
+
 #include <algorithm>
 #include <array>
 #include <charconv>
@@ -16,6 +18,9 @@
 namespace structmesh {
 
 namespace {
+
+using detail::append_hundredths;
+using detail::pixels;
 
 constexpr std::array<const char*, 5> kMethodNames{"cvtgp", "cvt", "metis", "madd", "exact"};
 
@@ -143,27 +148,6 @@ std::string hex_color(const std::array<std::uint8_t, 3>& rgb) {
     out += kDigits[channel >> 4];
     out += kDigits[channel & 15];
   }
-  return out;
-}
-
-// A value in hundredths of a pixel, written with at most two decimals (as region_svg).
-void append_hundredths(std::string& out, std::int64_t value) {
-  if (value < 0) {
-    out += '-';
-    value = -value;
-  }
-  out += std::to_string(value / 100);
-  const int fraction = static_cast<int>(value % 100);
-  if (fraction != 0) {
-    out += '.';
-    out += static_cast<char>('0' + fraction / 10);
-    if (fraction % 10 != 0) out += static_cast<char>('0' + fraction % 10);
-  }
-}
-
-std::string pixels(double value) {
-  std::string out;
-  append_hundredths(out, std::llround(value * 100));
   return out;
 }
 

@@ -6,6 +6,8 @@
 // scaled by cos(middle latitude), so shapes look as they do on a map.
 #include "structmesh/render.hpp"
 
+#include "render/svg_number.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -15,6 +17,9 @@
 namespace structmesh {
 
 namespace {
+
+using detail::append_hundredths;
+using detail::pixels;
 
 std::string escape_xml(const std::string& text) {
   std::string out;
@@ -32,27 +37,6 @@ std::string escape_xml(const std::string& text) {
       out += c;
     }
   }
-  return out;
-}
-
-// A value in hundredths of a pixel, written with at most two decimals.
-void append_hundredths(std::string& out, std::int64_t value) {
-  if (value < 0) {
-    out += '-';
-    value = -value;
-  }
-  out += std::to_string(value / 100);
-  const int fraction = static_cast<int>(value % 100);
-  if (fraction != 0) {
-    out += '.';
-    out += static_cast<char>('0' + fraction / 10);
-    if (fraction % 10 != 0) out += static_cast<char>('0' + fraction % 10);
-  }
-}
-
-std::string pixels(double value) {
-  std::string out;
-  append_hundredths(out, std::llround(value * 100));
   return out;
 }
 
