@@ -456,13 +456,7 @@ CornerCost corner_cost(const CellGraph& graph, std::span<const std::int32_t> nod
   }
   CornerCost total;
   const Index corners = static_cast<Index>(graph.corner_position.size());
-  for (Index c = 0; c < corners; ++c) {
-    const CornerCost at = corner_cost_at(graph, c, node_label);
-    total.separator_sum += at.separator_sum;
-    total.separator_corners += at.separator_corners;
-    total.boundary_sum += at.boundary_sum;
-    total.boundary_corners += at.boundary_corners;
-  }
+  for (Index c = 0; c < corners; ++c) total += corner_cost_at(graph, c, node_label);
   return total;
 }
 

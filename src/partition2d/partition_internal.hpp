@@ -208,6 +208,13 @@ struct CornerCost {
   std::size_t separator_corners = 0;
   double boundary_sum = 0;  ///< sum of delta over separator/boundary corners
   std::size_t boundary_corners = 0;
+  CornerCost& operator+=(const CornerCost& other) {
+    separator_sum += other.separator_sum;
+    separator_corners += other.separator_corners;
+    boundary_sum += other.boundary_sum;
+    boundary_corners += other.boundary_corners;
+    return *this;
+  }
 };
 
 /// Corner costs of a labelling (label per node; outside counts as its own label).

@@ -425,13 +425,7 @@ TEST(CornerCost, TotalIsSumOfCornersAndLocalUpdatesSuffice) {
   for (auto& l : labels) l = static_cast<std::int32_t>(random() % 3);
   const auto sum_of_corners = [&] {
     CornerCost sum;
-    for (Index c = 0; c < g.corner_position.size(); ++c) {
-      const CornerCost at = corner_cost_at(g, c, labels);
-      sum.separator_sum += at.separator_sum;
-      sum.separator_corners += at.separator_corners;
-      sum.boundary_sum += at.boundary_sum;
-      sum.boundary_corners += at.boundary_corners;
-    }
+    for (Index c = 0; c < g.corner_position.size(); ++c) sum += corner_cost_at(g, c, labels);
     return sum;
   };
   const CornerCost total = corner_cost(g, labels), sum = sum_of_corners();
