@@ -942,11 +942,7 @@ class Partitioner {
   /// connectivity check after each pass.
   void kway_refinement() {
     const std::size_t k = options_.parts;
-    double total = 0;
-    for (double a : graph_.node_area) total += a;
-    const double mean = total / static_cast<double>(k), root = std::sqrt(1 + options_.imbalance);
-    for (std::size_t p = 0; p < k; ++p) refiner_.activate(static_cast<Label>(p), mean / root, mean * root);
-    for (std::size_t v = 0; v < labels_.size(); ++v) refiner_.add_area(labels_[v], graph_.node_area[v]);
+    activate_kway_band();
     std::vector<Index> all(graph_.node_count());
     for (std::size_t v = 0; v < all.size(); ++v) all[v] = static_cast<Index>(v);
     refiner_.balance(all);
@@ -954,8 +950,7 @@ class Partitioner {
       const std::size_t moved = refiner_.refinement_pass(all) + refiner_.balance(all);
       if (max_components_per_part(graph_, labels_, k) > 1) {
         report_.moved_by_repair += repair_connectivity(graph_, labels_, k);
-        for (std::size_t p = 0; p < k; ++p) refiner_.activate(static_cast<Label>(p), mean / root, mean * root);
-        for (std::size_t v = 0; v < labels_.size(); ++v) refiner_.add_area(labels_[v], graph_.node_area[v]);
+        activate_kway_band();
         refiner_.balance(all);
       }
       if (moved == 0) break;
@@ -984,12 +979,19 @@ class Partitioner {
     // be a straw man. So the baselines get the same balancing pass as CVT-GP, on
     // separator length alone (lambda = 0 for them), and no refinement: METIS's cuts
     // are kept wherever the band allows.
+    activate_kway_band();
+    refiner_.balance(all);
+  }
+
+  /// Every part active with the k-way band L <= A_p <= U, U / L = 1 + imbalance,
+  /// around the mean part area, and its area summed from the current labels.
+  void activate_kway_band() {
+    const std::size_t k = options_.parts;
     double total = 0;
     for (double a : graph_.node_area) total += a;
     const double mean = total / static_cast<double>(k), root = std::sqrt(1 + options_.imbalance);
     for (std::size_t p = 0; p < k; ++p) refiner_.activate(static_cast<Label>(p), mean / root, mean * root);
     for (std::size_t v = 0; v < labels_.size(); ++v) refiner_.add_area(labels_[v], graph_.node_area[v]);
-    refiner_.balance(all);
   }
 
   /// METIS can return empty parts with METIS_OK (KarypisLab/METIS#91): an empty part
