@@ -101,7 +101,8 @@ Partition partition_region(const Polygon2& region, const PartitionOptions& optio
   const Polygon2 metric_region = project_region(region, projection);
   partition.projection = projection.describe();
   const double region_area = std::abs(area(metric_region));
-  const bool cvt_baseline = options.method == PartitionMethod::Cvt;
+  // One part is the region itself: a one-site CVT gives it without optimising thousands of cells.
+  const bool cvt_baseline = options.method == PartitionMethod::Cvt || k == 1;
   std::size_t cells = options.exact_cells ? options.cells : std::max(options.cells, 24 * k);
   if (cvt_baseline) cells = k;
   metrics.cells = cells;

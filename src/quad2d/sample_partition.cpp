@@ -1,0 +1,260 @@
+// sample_partition(): consistent boundary samples for every part (§3.3.1).
+//
+// Each curve of the partition (a separator between two parts, or a piece of the
+// region boundary) is sampled once, by arc length, and both parts use those
+// samples, so the part meshes share their boundary vertices by construction.
+// Paving needs an even number of boundary points per part [80]. The dissertation
+// doubles every separator sample; we instead round each curve to the nearest
+// segment count and then fix the parity of the odd parts with a T-join on a
+// spanning tree of the part adjacency (the outside of the region is the root and
+// absorbs any parity), which changes the fewest curves by one segment each and keeps
+// the spacing close to the requested size.
+#include "structmesh/error.hpp"
+#include "structmesh/quad2d.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <queue>
+#include <string>
+
+namespace structmesh {
+
+namespace {
+
+// Region boundary vertices that turn by more than this are kept as samples, so the
+// Key's teeth and other sharp features survive resampling.
+constexpr double kCornerTurn = 25.0 * std::numbers::pi / 180.0;
+
+// A curve as pieces between kept vertices: piece i runs from polyline vertex
+// breaks[i] to breaks[i+1] and gets segments[i] segments.
+struct CurvePlan {
+  std::vector<Vec2> polyline;
+  std::vector<std::size_t> breaks;
+  std::vector<double> lengths;
+  std::vector<Index> segments;
+  bool closed = false;
+};
+
+double turning_angle(const Vec2& a, const Vec2& b, const Vec2& c) {
+  const Vec2 u = b - a, v = c - b;
+  return std::abs(std::atan2(u.x() * v.y() - u.y() * v.x(), u.dot(v)));
+}
+
+double polyline_length(std::span<const Vec2> points, std::size_t from, std::size_t to) {
+  double length = 0;
+  for (std::size_t i = from; i < to; ++i) length += (points[i + 1] - points[i]).norm();
+  return length;
+}
+
+CurvePlan plan_curve(const Partition& partition, const PartitionCurve& curve, double size) {
+  CurvePlan plan;
+  for (const Index v : curve.vertices) plan.polyline.push_back(partition.metric_vertices[v]);
+  const std::size_t last = plan.polyline.size() - 1;
+  plan.closed = curve.vertices.front() == curve.vertices.back();
+  plan.breaks.push_back(0);
+  if (curve.kind == PartitionCurve::Kind::Boundary) {
+    for (std::size_t i = 1; i < last; ++i)
+      if (turning_angle(plan.polyline[i - 1], plan.polyline[i], plan.polyline[i + 1]) > kCornerTurn)
+        plan.breaks.push_back(i);
+  }
+  plan.breaks.push_back(last);
+  for (std::size_t i = 0; i + 1 < plan.breaks.size(); ++i) {
+    const double length = polyline_length(plan.polyline, plan.breaks[i], plan.breaks[i + 1]);
+    plan.lengths.push_back(length);
+    plan.segments.push_back(static_cast<Index>(std::max(1.0, std::round(length / size))));
+  }
+  // A closed curve (an island inside one part) needs at least a triangle.
+  if (plan.closed) {
+    Index total = 0;
+    for (const Index s : plan.segments) total += s;
+    if (total < 3) plan.segments[0] += 3 - total;
+  }
+  return plan;
+}
+
+Index total_segments(const CurvePlan& plan) {
+  Index total = 0;
+  for (const Index s : plan.segments) total += s;
+  return total;
+}
+
+// Changes the curve's segment count by one, in the direction that brings a piece
+// closest to its ideal count (length / size) and never below the minimum.
+void flip_parity(CurvePlan& plan, double size) {
+  const Index minimum_total = plan.closed ? 3 : 1;
+  std::size_t best = 0;
+  int best_step = 0;
+  double best_error = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < plan.segments.size(); ++i) {
+    const double ideal = plan.lengths[i] / size;
+    for (const int step : {+1, -1}) {
+      const double count = static_cast<double>(plan.segments[i]) + step;
+      if (count < 1 || total_segments(plan) + step < minimum_total) continue;
+      const double error = std::abs(count - ideal) - std::abs(static_cast<double>(plan.segments[i]) - ideal);
+      if (error < best_error) best_error = error, best = i, best_step = step;
+    }
+  }
+  plan.segments[best] = static_cast<Index>(static_cast<int>(plan.segments[best]) + best_step);
+}
+
+// Point at arc length s along polyline[from..to].
+Vec2 point_at(std::span<const Vec2> points, std::size_t from, std::size_t to, double s) {
+  for (std::size_t i = from; i < to; ++i) {
+    const double length = (points[i + 1] - points[i]).norm();
+    if (s <= length || i + 1 == to) {
+      const double t = length > 0 ? std::clamp(s / length, 0.0, 1.0) : 0.0;
+      return points[i] + t * (points[i + 1] - points[i]);
+    }
+    s -= length;
+  }
+  return points[to];
+}
+
+}  // namespace
+
+SampledPartition sample_partition(const Partition& partition, double size) {
+  if (!(size > 0) || !std::isfinite(size)) throw InputError("sample_partition: the element size must be positive");
+  const std::size_t parts = partition.part_loops.size();
+  const std::size_t curves = partition.curves.size();
+
+  std::vector<CurvePlan> plans;
+  plans.reserve(curves);
+  for (const PartitionCurve& curve : partition.curves) {
+    if (curve.vertices.size() < 2) throw Error("sample_partition: a partition curve has fewer than 2 vertices");
+    plans.push_back(plan_curve(partition, curve, size));
+  }
+
+  // Parity per part: the number of boundary points of a part equals the number of
+  // segments on its loops (each curve counted once per side it bounds).
+  const auto part_parity = [&]() {
+    std::vector<std::uint8_t> odd(parts, 0);
+    for (std::size_t p = 0; p < parts; ++p)
+      for (const auto& loop : partition.part_loops[p])
+        for (const std::int64_t ref : loop) {
+          const std::size_t c = ref >= 0 ? static_cast<std::size_t>(ref) : static_cast<std::size_t>(-ref - 1);
+          odd[p] ^= static_cast<std::uint8_t>(total_segments(plans[c]) & 1U);
+        }
+    return odd;
+  };
+
+  // T-join on a BFS tree of the graph parts + outside (node `parts`), curves as
+  // edges; leaves first, an odd node flips the curve to its parent.
+  {
+    std::vector<std::vector<std::pair<std::size_t, std::size_t>>> adjacent(parts + 1);  // (node, curve)
+    for (std::size_t c = 0; c < curves; ++c) {
+      const PartitionCurve& curve = partition.curves[c];
+      const std::size_t a = curve.left_part >= 0 ? static_cast<std::size_t>(curve.left_part) : parts;
+      const std::size_t b = curve.right_part >= 0 ? static_cast<std::size_t>(curve.right_part) : parts;
+      if (a == b) continue;
+      adjacent[a].emplace_back(b, c);
+      adjacent[b].emplace_back(a, c);
+    }
+    std::vector<std::size_t> order, parent_curve(parts + 1, curves), parent(parts + 1, parts + 1);
+    std::vector<std::uint8_t> seen(parts + 1, 0);
+    std::queue<std::size_t> queue;
+    // The outside is the root when the region has a boundary curve; every part is
+    // also a root of its own component if the graph is disconnected.
+    for (std::size_t root_index = 0; root_index <= parts; ++root_index) {
+      const std::size_t root = root_index == 0 ? parts : root_index - 1;
+      if (seen[root]) continue;
+      seen[root] = 1;
+      queue.push(root);
+      while (!queue.empty()) {
+        const std::size_t node = queue.front();
+        queue.pop();
+        order.push_back(node);
+        for (const auto& [next, curve] : adjacent[node]) {
+          if (seen[next]) continue;
+          seen[next] = 1;
+          parent[next] = node;
+          parent_curve[next] = curve;
+          queue.push(next);
+        }
+      }
+    }
+    std::vector<std::uint8_t> odd = part_parity();
+    odd.push_back(0);  // the outside has no constraint
+    for (auto it = order.rbegin(); it != order.rend(); ++it) {
+      const std::size_t node = *it;
+      if (node == parts || !odd[node]) continue;
+      if (parent[node] > parts)
+        throw Error("sample_partition: part " + std::to_string(node) +
+                    " has an odd boundary and no neighbour to share the parity with");
+      flip_parity(plans[parent_curve[node]], size);
+      odd[node] ^= 1U;
+      if (parent[node] != parts) odd[parent[node]] ^= 1U;
+    }
+    const std::vector<std::uint8_t> check = part_parity();
+    for (std::size_t p = 0; p < parts; ++p)
+      if (check[p]) throw Error("sample_partition: part " + std::to_string(p) + " kept an odd boundary (internal)");
+  }
+
+  SampledPartition sampled;
+  sampled.size = size;
+  // Curve ends first, shared by every curve that ends there.
+  std::vector<Index> point_of_vertex(partition.metric_vertices.size(), kInvalidIndex);
+  const auto add_point = [&](const Vec2& p, bool boundary) {
+    sampled.points.push_back(p);
+    sampled.on_region_boundary.push_back(boundary ? 1 : 0);
+    sampled.fixed.push_back(boundary ? 1 : 0);
+    return static_cast<Index>(sampled.points.size() - 1);
+  };
+  const auto end_point = [&](Index vertex, bool boundary) {
+    if (point_of_vertex[vertex] == kInvalidIndex)
+      point_of_vertex[vertex] = add_point(partition.metric_vertices[vertex], boundary);
+    else if (boundary)
+      sampled.on_region_boundary[point_of_vertex[vertex]] = sampled.fixed[point_of_vertex[vertex]] = 1;
+    return point_of_vertex[vertex];
+  };
+  // chains[c]: the curve's sample indices from its first to its last vertex.
+  std::vector<std::vector<Index>> chains(curves);
+  for (std::size_t c = 0; c < curves; ++c) {
+    const PartitionCurve& curve = partition.curves[c];
+    const CurvePlan& plan = plans[c];
+    const bool boundary = curve.kind == PartitionCurve::Kind::Boundary;
+    std::vector<Index>& chain = chains[c];
+    for (std::size_t piece = 0; piece < plan.segments.size(); ++piece) {
+      const std::size_t from = plan.breaks[piece], to = plan.breaks[piece + 1];
+      chain.push_back(end_point(curve.vertices[from], boundary));
+      const Index n = plan.segments[piece];
+      for (Index j = 1; j < n; ++j)
+        chain.push_back(add_point(point_at(plan.polyline, from, to, plan.lengths[piece] * j / n), boundary));
+    }
+    chain.push_back(end_point(curve.vertices.back(), boundary));
+  }
+
+  sampled.part_loops.assign(parts, {});
+  for (std::size_t p = 0; p < parts; ++p) {
+    for (const auto& loop_refs : partition.part_loops[p]) {
+      std::vector<Index> loop;
+      for (const std::int64_t ref : loop_refs) {
+        const bool forward = ref >= 0;
+        const std::vector<Index>& chain = chains[forward ? ref : -ref - 1];
+        // Each curve contributes its points but its last; the next curve starts there.
+        if (forward)
+          loop.insert(loop.end(), chain.begin(), chain.end() - 1);
+        else
+          loop.insert(loop.end(), chain.rbegin(), chain.rend() - 1);
+      }
+      sampled.part_loops[p].push_back(std::move(loop));
+    }
+  }
+  return sampled;
+}
+
+std::pair<Polygon2, std::vector<Index>> part_boundary(const SampledPartition& sampled, std::size_t part) {
+  if (part >= sampled.part_loops.size()) throw InputError("part_boundary: no part " + std::to_string(part));
+  Polygon2 polygon;
+  std::vector<Index> map;
+  for (const std::vector<Index>& loop : sampled.part_loops[part]) {
+    std::vector<Vec2> ring;
+    ring.reserve(loop.size());
+    for (const Index i : loop) ring.push_back(sampled.points[i]);
+    polygon.add_ring(ring);
+    map.insert(map.end(), loop.begin(), loop.end());
+  }
+  return {std::move(polygon), std::move(map)};
+}
+
+}  // namespace structmesh

@@ -1,0 +1,124 @@
+#include "structmesh/error.hpp"
+#include "structmesh/partition2d.hpp"
+#include "structmesh/quad2d.hpp"
+#include "structmesh/regions.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+namespace structmesh {
+namespace {
+
+Polygon2 rectangle(double width, double height) {
+  Polygon2 polygon;
+  const std::vector<Vec2> ring{{0, 0}, {width, 0}, {width, height}, {0, height}};
+  polygon.add_ring(ring);
+  return polygon;
+}
+
+std::size_t boundary_point_count(const SampledPartition& sampled, std::size_t part) {
+  std::size_t count = 0;
+  for (const auto& loop : sampled.part_loops[part]) count += loop.size();
+  return count;
+}
+
+// Every loop is a closed chain of distinct points; consecutive points are about
+// `size` apart; every part has an even number of boundary points.
+void expect_valid_sampling(const SampledPartition& sampled, double size) {
+  for (std::size_t p = 0; p < sampled.part_loops.size(); ++p) {
+    EXPECT_EQ(boundary_point_count(sampled, p) % 2, 0U) << "part " << p;
+    for (const auto& loop : sampled.part_loops[p]) {
+      ASSERT_GE(loop.size(), 3U);
+      std::set<Index> distinct(loop.begin(), loop.end());
+      EXPECT_EQ(distinct.size(), loop.size()) << "part " << p << " visits a point twice";
+      for (std::size_t i = 0; i < loop.size(); ++i) {
+        const double length = (sampled.points[loop[(i + 1) % loop.size()]] - sampled.points[loop[i]]).norm();
+        EXPECT_GT(length, 0.0);
+        EXPECT_LT(length, 2.01 * size) << "part " << p;
+      }
+    }
+  }
+}
+
+TEST(SamplePartition, RectangleInThreePartsSharesSeparatorsAndKeepsCorners) {
+  PartitionOptions options;
+  options.parts = 3;
+  options.cells = 300;
+  const Partition partition = partition_region(rectangle(3, 1), options);
+  const double size = 0.1;
+  const SampledPartition sampled = sample_partition(partition, size);
+  ASSERT_EQ(sampled.part_loops.size(), 3U);
+  expect_valid_sampling(sampled, size);
+
+  // Separator samples are used by two parts (junctions by more), region boundary
+  // samples by at least one; every sample is used.
+  std::vector<std::set<std::size_t>> users(sampled.points.size());
+  for (std::size_t p = 0; p < 3; ++p)
+    for (const auto& loop : sampled.part_loops[p])
+      for (const Index i : loop) users[i].insert(p);
+  for (std::size_t i = 0; i < sampled.points.size(); ++i) {
+    ASSERT_FALSE(users[i].empty()) << "unused sample " << i;
+    if (!sampled.on_region_boundary[i]) {
+      EXPECT_GE(users[i].size(), 2U) << "separator sample " << i;
+    }
+    EXPECT_EQ(sampled.fixed[i], sampled.on_region_boundary[i]);
+  }
+  // No two samples at the same place (shared by index, not duplicated).
+  std::set<std::pair<double, double>> places;
+  for (const Vec2& p : sampled.points) places.emplace(p.x(), p.y());
+  EXPECT_EQ(places.size(), sampled.points.size());
+  // The rectangle's corners are samples, and region boundary samples lie on its sides.
+  for (const Vec2& corner : {Vec2(0, 0), Vec2(3, 0), Vec2(3, 1), Vec2(0, 1)})
+    EXPECT_EQ(places.count({corner.x(), corner.y()}), 1U) << corner.transpose();
+  for (std::size_t i = 0; i < sampled.points.size(); ++i) {
+    if (!sampled.on_region_boundary[i]) continue;
+    const Vec2& p = sampled.points[i];
+    const double distance = std::min({std::abs(p.x()), std::abs(p.x() - 3), std::abs(p.y()), std::abs(p.y() - 1)});
+    EXPECT_LT(distance, 1e-12);
+  }
+}
+
+TEST(SamplePartition, EveryPartOfTheKeyIsEvenAtManySizes) {
+  PartitionOptions options;
+  options.parts = 16;
+  options.cells = 1000;
+  const Partition partition = partition_region(make_key_region(1000), options);
+  double perimeter = 0;
+  const Polygon2 key = make_key_region(1000);
+  for (std::size_t r = 0; r < key.ring_count(); ++r) {
+    const auto ring = key.ring(r);
+    for (std::size_t i = 0; i < ring.size(); ++i) perimeter += (ring[(i + 1) % ring.size()] - ring[i]).norm();
+  }
+  for (const double factor : {0.7, 1.0, 1.37, 2.0, 3.1, 5.0}) {
+    const double size = factor * perimeter / 1000;
+    const SampledPartition sampled = sample_partition(partition, size);
+    SCOPED_TRACE(factor);
+    expect_valid_sampling(sampled, size);
+    // Loop 0 of each part is counter-clockwise, holes clockwise.
+    for (std::size_t p = 0; p < sampled.part_loops.size(); ++p) {
+      const auto [polygon, map] = part_boundary(sampled, p);
+      ASSERT_EQ(map.size(), boundary_point_count(sampled, p));
+      EXPECT_GT(signed_area(polygon.ring(0)), 0) << "part " << p;
+      for (std::size_t r = 1; r < polygon.ring_count(); ++r) EXPECT_LT(signed_area(polygon.ring(r)), 0);
+      for (std::size_t k = 0; k < map.size(); ++k) EXPECT_EQ(polygon.points[k], sampled.points[map[k]]);
+    }
+  }
+}
+
+TEST(SamplePartition, RejectsNonPositiveSize) {
+  PartitionOptions options;
+  options.parts = 1;
+  const Partition partition = partition_region(rectangle(1, 1), options);
+  EXPECT_THROW(sample_partition(partition, 0.0), InputError);
+  EXPECT_THROW(sample_partition(partition, -1.0), InputError);
+  const SampledPartition sampled = sample_partition(partition, 0.25);
+  EXPECT_EQ(boundary_point_count(sampled, 0), 16U);
+  EXPECT_THROW(part_boundary(sampled, 1), InputError);
+}
+
+}  // namespace
+}  // namespace structmesh
