@@ -106,9 +106,9 @@ struct RelaxStats {
   int iterations = 0;
 };
 /// Laplacian relaxation of the vertices within `rings` rings of the separators
-/// (§3.3.2): each moves to the mean of its neighbours, in a fixed colour order
-/// (deterministic for any thread count); a move that would make an incident quad's
-/// scaled Jacobian non-positive (or lower than it was, if it was already low) is refused.
+/// (§3.3.2): Jacobi sweeps, each vertex to the mean of its edge neighbours; a move
+/// that would make an incident quad's scaled Jacobian non-positive (or lower than
+/// min(its value, 0.5)) is refused. Bit-identical for any thread count or MPI split.
 RelaxStats relax_near_separators(MergedMesh& merged, const RelaxOptions& options = {});
 
 // ---------------------------------------------------------------------------

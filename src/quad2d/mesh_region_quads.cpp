@@ -80,11 +80,12 @@ Quad2dResult mesh_region_quads(const Polygon2& region, const Quad2dOptions& opti
   const double expected_quads = planar_area / (size * size);
   if (expected_quads > 4.0e9) throw InputError("quad2d: --size gives more than 4e9 quads; choose a larger size");
   if (partition_options.parts == 0)
-    partition_options.parts =
-        default_part_count(static_cast<std::size_t>(expected_quads), static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()));
-  if (options.progress) status("quad2d: element size " + std::to_string(size) + ", about " +
-                               std::to_string(static_cast<long long>(expected_quads)) + " quads in " +
-                               std::to_string(partition_options.parts) + " parts");
+    partition_options.parts = default_part_count(static_cast<std::size_t>(expected_quads),
+                                                 static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()));
+  if (options.progress)
+    status("quad2d: element size " + std::to_string(size) + ", about " +
+           std::to_string(static_cast<long long>(expected_quads)) + " quads in " +
+           std::to_string(partition_options.parts) + " parts");
   const Partition partition = partition_region(region, partition_options);
   stage("partition");
 

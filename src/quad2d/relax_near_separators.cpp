@@ -2,10 +2,14 @@
 // glued, the rows of neighbouring parts meet at the separators with a kink; a few
 // Laplacian sweeps over the vertices within five rings of the separators smooth it.
 //
-// The sweeps are Gauss-Seidel over colour classes: no two vertices of one colour
-// share a quad, so the vertices of a colour move in parallel without touching each
-// other's quads, and the result is the same for any thread count (and, with a halo
-// exchange after each colour, for any number of MPI ranks).
+// Each sweep is a Jacobi step: every zone vertex proposes the mean of its edge
+// neighbours, summed in ascending vertex order, from the positions before the
+// sweep. Then, in synchronous rounds, every quad that the proposals would invert
+// (or push below the quality floor) refuses the proposals of all its moving
+// vertices, until no quad objects. Nothing depends on the order in which vertices
+// or quads are visited, so the result is bit-identical for any thread count and for
+// any split of the mesh over MPI ranks that exchanges proposals and refusals of the
+// shared vertices (apps/structmesh/quad2d_mpi.cpp).
 #include "structmesh/error.hpp"
 #include "structmesh/quad2d.hpp"
 #include "structmesh/quality.hpp"
@@ -13,9 +17,7 @@
 #include <oneapi/tbb/parallel_for.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <cstring>
 
 namespace structmesh {
 
@@ -26,24 +28,11 @@ namespace {
 // lower already), and never to an inverted quad.
 constexpr double kQualityFloor = 0.5;
 
-double min_incident_jacobian(const QuadMesh& mesh, std::span<const Index> quads, Index vertex, const Vec3& position) {
-  static const Vec3 up(0, 0, 1);
-  double worst = std::numeric_limits<double>::infinity();
-  for (const Index q : quads) {
-    std::array<Vec3, 4> corners;
-    for (int k = 0; k < 4; ++k) {
-      const Index v = mesh.quads[q][k];
-      corners[k] = v == vertex ? position : mesh.points[v];
-    }
-    worst = std::min(worst, quad_scaled_jacobian(corners, &up));
-  }
-  return worst;
-}
-
 }  // namespace
 
 RelaxStats relax_near_separators(MergedMesh& merged, const RelaxOptions& options) {
-  if (options.rings < 0 || options.iterations < 0) throw InputError("relax_near_separators: negative rings or iterations");
+  if (options.rings < 0 || options.iterations < 0)
+    throw InputError("relax_near_separators: negative rings or iterations");
   QuadMesh& mesh = merged.mesh;
   const std::size_t n = mesh.points.size();
   if (merged.fixed.size() != n || merged.separator.size() != n)
@@ -79,23 +68,6 @@ RelaxStats relax_near_separators(MergedMesh& merged, const RelaxOptions& options
   for (Index v = 0; v < n; ++v)
     if (ring[v] >= 0 && !merged.fixed[v] && vertex_quads.row(v).size() > 0) zone.push_back(v);
 
-  // Greedy colouring in vertex order: a colour not used by any zone vertex sharing a quad.
-  std::vector<std::int32_t> colour(n, -1);
-  std::int32_t colours = 0;
-  std::vector<std::uint8_t> used;
-  for (const Index v : zone) {
-    used.assign(static_cast<std::size_t>(colours) + 1, 0);
-    for (const Index q : vertex_quads.row(v))
-      for (const Index w : mesh.quads[q])
-        if (colour[w] >= 0) used[static_cast<std::size_t>(colour[w])] = 1;
-    std::int32_t c = 0;
-    while (used[static_cast<std::size_t>(c)]) ++c;
-    colour[v] = c;
-    colours = std::max(colours, c + 1);
-  }
-  std::vector<std::vector<Index>> classes(static_cast<std::size_t>(colours));
-  for (const Index v : zone) classes[static_cast<std::size_t>(colour[v])].push_back(v);
-
   RelaxStats stats;
   stats.moved_vertices = zone.size();
   double scale = 0;  // mean edge length in the zone, for the convergence test
@@ -104,39 +76,77 @@ RelaxStats relax_near_separators(MergedMesh& merged, const RelaxOptions& options
     for_each_edge_neighbour(v, [&](Index w) { scale += (mesh.points[w] - mesh.points[v]).norm(), ++edges; });
   scale = edges > 0 ? scale / static_cast<double>(edges) : 0;
 
-  std::atomic<std::size_t> rejected{0};
+  // Neighbours of the zone vertices, each once, ascending (a fixed summation order).
+  CompressedRows neighbours;
+  {
+    std::vector<Index> row;
+    for (const Index v : zone) {
+      row.clear();
+      for_each_edge_neighbour(v, [&](Index w) { row.push_back(w); });
+      std::sort(row.begin(), row.end());
+      row.erase(std::unique(row.begin(), row.end()), row.end());
+      neighbours.items.insert(neighbours.items.end(), row.begin(), row.end());
+      neighbours.offsets.push_back(static_cast<Index>(neighbours.items.size()));
+    }
+  }
+  // The quads that can change: those with a zone vertex.
+  std::vector<Index> zone_quads;
+  for (const Index v : zone)
+    for (const Index q : vertex_quads.row(v)) zone_quads.push_back(q);
+  std::sort(zone_quads.begin(), zone_quads.end());
+  zone_quads.erase(std::unique(zone_quads.begin(), zone_quads.end()), zone_quads.end());
+  std::vector<Index> zone_slot(n, kInvalidIndex);
+  for (std::size_t i = 0; i < zone.size(); ++i) zone_slot[zone[i]] = static_cast<Index>(i);
+
+  static const Vec3 up(0, 0, 1);
+  const auto jacobian = [&](const std::array<Index, 4>& quad, auto&& position) {
+    std::array<Vec3, 4> corners;
+    for (int k = 0; k < 4; ++k) corners[k] = position(quad[k]);
+    return quad_scaled_jacobian(corners, &up);
+  };
+  std::vector<Vec3> proposal(zone.size());
+  std::vector<std::uint8_t> accepted(zone.size());
+  std::vector<double> quality_before(zone_quads.size());
+  std::size_t rejected = 0;
   for (int iteration = 0; iteration < options.iterations && !zone.empty(); ++iteration) {
-    std::atomic<std::uint64_t> largest_move_bits{0};  // doubles >= 0 order like their bits
-    for (const std::vector<Index>& members : classes) {
-      tbb::parallel_for(std::size_t{0}, members.size(), [&](std::size_t i) {
-        const Index v = members[i];
-        Vec3 sum = Vec3::Zero();
-        int count = 0;
-        for_each_edge_neighbour(v, [&](Index w) { sum += mesh.points[w], ++count; });
-        const Vec3 target = sum / count;
-        const std::span<const Index> quads = vertex_quads.row(v);
-        const double before = min_incident_jacobian(mesh, quads, v, mesh.points[v]);
-        const double after = min_incident_jacobian(mesh, quads, v, target);
-        if (!(after > 0) || after < std::min(before, kQualityFloor)) {
-          rejected.fetch_add(1, std::memory_order_relaxed);
-          return;
-        }
-        const double move = (target - mesh.points[v]).norm();
-        mesh.points[v] = target;
-        std::uint64_t bits = 0;
-        std::memcpy(&bits, &move, sizeof bits);
-        std::uint64_t seen = largest_move_bits.load(std::memory_order_relaxed);
-        while (bits > seen && !largest_move_bits.compare_exchange_weak(seen, bits)) {
-        }
-      });
+    tbb::parallel_for(std::size_t{0}, zone.size(), [&](std::size_t i) {
+      Vec3 sum = Vec3::Zero();
+      const auto row = neighbours.row(i);
+      for (const Index w : row) sum += mesh.points[w];
+      proposal[i] = sum / static_cast<double>(row.size());
+      accepted[i] = 1;
+    });
+    tbb::parallel_for(std::size_t{0}, zone_quads.size(), [&](std::size_t i) {
+      quality_before[i] = jacobian(mesh.quads[zone_quads[i]], [&](Index v) { return mesh.points[v]; });
+    });
+    const auto proposed = [&](Index v) {
+      const Index slot = zone_slot[v];
+      return slot != kInvalidIndex && accepted[slot] ? proposal[slot] : mesh.points[v];
+    };
+    // Refusal rounds: each round reads the previous round's acceptances only.
+    std::vector<Index> refuse;
+    while (true) {
+      refuse.clear();
+      for (std::size_t i = 0; i < zone_quads.size(); ++i) {
+        const auto& quad = mesh.quads[zone_quads[i]];
+        const double after = jacobian(quad, proposed);
+        if (after > 0 && after >= std::min(quality_before[i], kQualityFloor)) continue;
+        for (const Index v : quad)
+          if (zone_slot[v] != kInvalidIndex && accepted[zone_slot[v]]) refuse.push_back(zone_slot[v]);
+      }
+      if (refuse.empty()) break;
+      for (const Index slot : refuse) rejected += accepted[slot], accepted[slot] = 0;
+    }
+    double largest_move = 0;
+    for (std::size_t i = 0; i < zone.size(); ++i) {
+      if (!accepted[i]) continue;
+      largest_move = std::max(largest_move, (proposal[i] - mesh.points[zone[i]]).norm());
+      mesh.points[zone[i]] = proposal[i];
     }
     stats.iterations = iteration + 1;
-    double largest_move = 0;
-    const std::uint64_t bits = largest_move_bits.load();
-    std::memcpy(&largest_move, &bits, sizeof largest_move);
     if (largest_move <= 1e-9 * scale) break;
   }
-  stats.rejected_moves = rejected.load();
+  stats.rejected_moves = rejected;
   return stats;
 }
 
