@@ -2,6 +2,9 @@
 // and the registration functions of the subcommands (one file each).
 #pragma once
 
+#include "structmesh/mesh.hpp"
+#include "structmesh/partition2d.hpp"
+
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -26,6 +29,14 @@ Action add_quality_command(CLI::App& command, const GlobalOptions& global);
 Action add_generate_command(CLI::App& command, const GlobalOptions& global);
 Action add_convert_command(CLI::App& command, const GlobalOptions& global);
 Action add_partition2d_command(CLI::App& command, const GlobalOptions& global);
+Action add_quad2d_command(CLI::App& command, const GlobalOptions& global);
+
+/// A region from a file (.geojson, .poly) or the built-in "key" / "pipe" with about
+/// `segments` boundary segments (0: the default); `polygon_choice` ("", an index or
+/// "largest") picks one polygon of a multi-polygon file.
+Polygon2 load_region(const std::string& source, std::size_t segments, const std::string& polygon_choice);
+/// The partition metrics as a JSON object.
+nlohmann::json metrics_json(const Partition& partition);
 
 /// Adds --json, --quiet, --progress and --threads to a subcommand (they are also
 /// accepted before the subcommand name).

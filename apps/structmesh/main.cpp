@@ -53,6 +53,8 @@ int main(int argc, char** argv) {
   add("convert", "Convert a mesh or region between formats (format from the extension)", cli::add_convert_command);
   add("partition2d", "Split a planar region into k balanced, compact parts with near-90° corners (§3.2)",
       cli::add_partition2d_command);
+  add("quad2d", "All-quad mesh of a planar region: partition, pave the parts in parallel, merge, relax (§3.3)",
+      cli::add_quad2d_command);
 
   try {
     app.parse(argc, argv);

@@ -153,6 +153,17 @@ Quad2dResult mesh_region_quads(const Polygon2& region, const Quad2dOptions& opti
 /// else at least 4 per thread and one per 250k quads.
 std::size_t default_part_count(std::size_t expected_quads, std::size_t threads);
 
+/// Process of each part: longest predicted work first onto the least loaded
+/// process (LPT; ties to the lowest process). InputError for zero processes.
+std::vector<std::int32_t> assign_parts(std::span<const double> work, std::size_t processes);
+/// Speedup of that assignment over one process: sum of work / largest load.
+double predicted_speedup(std::span<const double> work, std::size_t processes);
+
+/// Maps mesh points from the metric plane of a lon/lat region back to degrees
+/// (the inverse of the projection partition_region() chose). InputError for a
+/// planar region.
+void points_to_lonlat(const Polygon2& region, std::vector<Vec3>& points);
+
 /// Size for a wanted quad count: sqrt(area / quads).
 double size_for_quad_count(double area, std::size_t quads);
 
