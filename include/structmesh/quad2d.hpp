@@ -14,6 +14,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 #include <utility>
@@ -89,6 +90,7 @@ struct MergedMesh {
   std::vector<std::int32_t> part_of_quad;
   std::vector<std::uint8_t> fixed;      ///< per point: region boundary (never moved)
   std::vector<std::uint8_t> separator;  ///< per point: on a separator
+  double size = 0;                      ///< the sampling size (relaxation's length scale)
 };
 
 /// Glues the paved parts: boundary points are the sampled points (identified by
@@ -102,9 +104,39 @@ struct RelaxOptions {
 };
 struct RelaxStats {
   std::size_t moved_vertices = 0;  ///< vertices in the relaxation zone
-  std::size_t rejected_moves = 0;  ///< moves refused because a quad would invert
+  std::size_t rejected_moves = 0;  ///< moves refused (summed over sweeps) because a quad would invert
   int iterations = 0;
 };
+
+/// One process's share of a mesh for relax_piece(): its own quads first, then ghost
+/// quads (other processes' quads that touch its points) so that every owned vertex
+/// sees its whole one-ring. Points are local; `global` gives their merged-mesh index.
+struct RelaxPiece {
+  std::vector<Vec3> points;
+  std::vector<std::array<Index, 4>> quads;
+  std::size_t own_quads = 0;
+  std::vector<Index> global;
+  std::vector<std::uint8_t> owned;      ///< 1: this process decides this point
+  std::vector<std::uint8_t> fixed;      ///< region boundary
+  std::vector<std::uint8_t> separator;  ///< on a separator
+  double size = 0;                      ///< length scale of the convergence test
+};
+
+/// Exchanges between the processes that hold copies of a point. The defaults are
+/// those of a single process (nothing to exchange).
+struct RelaxComm {
+  std::function<void(std::vector<Vec3>&)> sync_points = [](std::vector<Vec3>&) {};  ///< owner -> copies
+  std::function<void(std::vector<std::uint8_t>&)> sync_flags = [](std::vector<std::uint8_t>&) {};  ///< owner -> copies
+  std::function<void(std::vector<std::uint8_t>&)> and_flags = [](std::vector<std::uint8_t>&) {};  ///< AND of all copies
+  std::function<bool(bool)> any = [](bool value) { return value; };
+  std::function<double(double)> max = [](double value) { return value; };
+  std::function<std::size_t(std::size_t)> sum = [](std::size_t value) { return value; };
+};
+
+/// relax_near_separators() on one process's piece; with the same inputs split over
+/// processes the result is bit-identical to the whole mesh relaxed at once.
+RelaxStats relax_piece(RelaxPiece& piece, const RelaxOptions& options, const RelaxComm& comm);
+
 /// Laplacian relaxation of the vertices within `rings` rings of the separators
 /// (§3.3.2): Jacobi sweeps, each vertex to the mean of its edge neighbours; a move
 /// that would make an incident quad's scaled Jacobian non-positive (or lower than
@@ -145,13 +177,30 @@ struct Quad2dResult {
   Quad2dReport report;
 };
 
+/// The stages before paving: the size (from --size, --quads or the mean input
+/// boundary segment), the part count (default_part_count with `processes`), the
+/// partition and the consistent samples.
+struct Quad2dSetup {
+  Partition partition;
+  SampledPartition sampled;
+  double size = 0;
+  std::vector<std::pair<std::string, double>> stage_seconds;
+};
+Quad2dSetup setup_quad2d(const Polygon2& region, const Quad2dOptions& options, std::size_t processes = 1);
+
+/// Paves the listed parts in parallel (TBB, largest area first); the other entries
+/// of the result stay empty. part_seconds gets each part's meshing time.
+std::vector<PavedPart> pave_parts(const Quad2dSetup& setup, std::span<const std::size_t> parts,
+                                  const PavingOptions& options, std::vector<double>& part_seconds, bool progress);
+
 /// Partitions, samples, paves every part in parallel (TBB, largest part first),
 /// merges and relaxes. The mesh is identical for any thread count.
 Quad2dResult mesh_region_quads(const Polygon2& region, const Quad2dOptions& options = {});
 
 /// Parts for an expected quad count when none are asked for: 1 below 20k quads,
-/// else at least 4 per thread and one per 250k quads.
-std::size_t default_part_count(std::size_t expected_quads, std::size_t threads);
+/// else the largest of 8, one per 250k quads and two per process (MPI rank).
+/// Independent of the thread count.
+std::size_t default_part_count(std::size_t expected_quads, std::size_t processes);
 
 /// Process of each part: longest predicted work first onto the least loaded
 /// process (LPT; ties to the lowest process). InputError for zero processes.
@@ -163,6 +212,9 @@ double predicted_speedup(std::span<const double> work, std::size_t processes);
 /// (the inverse of the projection partition_region() chose). InputError for a
 /// planar region.
 void points_to_lonlat(const Polygon2& region, std::vector<Vec3>& points);
+
+/// Signed area of a planar quad mesh (positive for counter-clockwise quads).
+double quad_mesh_area(const QuadMesh& mesh);
 
 /// Size for a wanted quad count: sqrt(area / quads).
 double size_for_quad_count(double area, std::size_t quads);

@@ -23,6 +23,7 @@ MergedMesh merge_parts(const SampledPartition& sampled, std::span<const PavedPar
   if (point_count > kInvalidIndex) throw Error("merge_parts: more points than 32-bit indices can address");
 
   MergedMesh merged;
+  merged.size = sampled.size;
   merged.mesh.points.reserve(point_count);
   merged.mesh.quads.reserve(quad_count);
   merged.part_of_quad.reserve(quad_count);

@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <memory>
 #include <cmath>
 #include <numeric>
 #include <string>
@@ -47,28 +48,33 @@ double mean_boundary_segment(const Polygon2& metric_region) {
 
 }  // namespace
 
-std::size_t default_part_count(std::size_t expected_quads, std::size_t threads) {
-  // Small meshes are best in one piece (every separator adds singular vertices);
-  // large ones get a few parts per thread for load balance, and at least one part
-  // per 250k quads so a part's front stays short.
-  if (expected_quads < 20000) return 1;
-  const std::size_t per_thread = 4 * std::max<std::size_t>(1, threads);
-  return std::max(per_thread, (expected_quads + 249999) / 250000);
+double quad_mesh_area(const QuadMesh& mesh) {
+  // Half the cross product of the diagonals: exact for planar quads and free of
+  // the cancellation a shoelace over large coordinates (metres) would suffer.
+  double total = 0;
+  for (const auto& q : mesh.quads) {
+    const Vec3 d0 = mesh.points[q[2]] - mesh.points[q[0]];
+    const Vec3 d1 = mesh.points[q[3]] - mesh.points[q[1]];
+    total += 0.5 * (d0.x() * d1.y() - d0.y() * d1.x());
+  }
+  return total;
 }
 
-Quad2dResult mesh_region_quads(const Polygon2& region, const Quad2dOptions& options) {
-  if (options.size < 0 || !std::isfinite(options.size)) throw InputError("quad2d: --size must be positive");
-  const auto start = Clock::now();
-  Quad2dResult result;
-  Quad2dReport& report = result.report;
-  auto stage_start = Clock::now();
-  const auto stage = [&](const char* name) {
-    report.stage_seconds.emplace_back(name, seconds_since(stage_start));
-    stage_start = Clock::now();
-  };
+std::size_t default_part_count(std::size_t expected_quads, std::size_t processes) {
+  // Small meshes are best in one piece (every separator adds singular vertices);
+  // large ones get at least 8 parts (load balance over threads), one per 250k quads
+  // (a part's front stays short) and two per MPI process. Thread counts do not
+  // enter, so the default mesh is the same for any number of threads.
+  if (expected_quads < 20000) return 1;
+  return std::max({std::size_t{8}, (expected_quads + 249999) / 250000, 2 * processes});
+}
 
-  // 1. Size and part count in the metric plane (lon/lat input is projected the
-  //    same way partition_region() projects it), then the partition.
+Quad2dSetup setup_quad2d(const Polygon2& region, const Quad2dOptions& options, std::size_t processes) {
+  if (options.size < 0 || !std::isfinite(options.size)) throw InputError("quad2d: --size must be positive");
+  Quad2dSetup setup;
+  auto stage_start = Clock::now();
+  // Size and part count in the metric plane (lon/lat input is projected the same
+  // way partition_region() projects it), then the partition and the samples.
   PartitionOptions partition_options = options.partition;
   partition_options.progress = options.progress;
   const Polygon2 metric_region = partition2d::project_region(region, partition2d::choose_projection(region));
@@ -80,54 +86,82 @@ Quad2dResult mesh_region_quads(const Polygon2& region, const Quad2dOptions& opti
   const double expected_quads = planar_area / (size * size);
   if (expected_quads > 4.0e9) throw InputError("quad2d: --size gives more than 4e9 quads; choose a larger size");
   if (partition_options.parts == 0)
-    partition_options.parts = default_part_count(static_cast<std::size_t>(expected_quads),
-                                                 static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()));
+    partition_options.parts = default_part_count(static_cast<std::size_t>(expected_quads), processes);
   if (options.progress)
     status("quad2d: element size " + std::to_string(size) + ", about " +
            std::to_string(static_cast<long long>(expected_quads)) + " quads in " +
            std::to_string(partition_options.parts) + " parts");
-  const Partition partition = partition_region(region, partition_options);
-  stage("partition");
+  setup.partition = partition_region(region, partition_options);
+  setup.stage_seconds.emplace_back("partition", seconds_since(stage_start));
+  stage_start = Clock::now();
+  setup.sampled = sample_partition(setup.partition, size);
+  setup.size = size;
+  setup.stage_seconds.emplace_back("sample", seconds_since(stage_start));
+  return setup;
+}
 
-  // 2. Consistent boundary samples.
-  const SampledPartition sampled = sample_partition(partition, size);
-  const std::size_t parts = sampled.part_loops.size();
-  stage("sample");
-
-  // 3. Paving, largest part first.
-  std::vector<Polygon2> boundaries(parts);
-  std::vector<std::vector<Index>> maps(parts);
-  for (std::size_t p = 0; p < parts; ++p) std::tie(boundaries[p], maps[p]) = part_boundary(sampled, p);
-  std::vector<std::size_t> order(parts);
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return partition.part_areas[a] > partition.part_areas[b]; });
-  std::vector<PavedPart> paved(parts);
-  report.part_seconds.assign(parts, 0);
-  PavingOptions paving = options.paving;
-  if (paving.size == 0) paving.size = size;
-  {
-    Progress progress("paving parts", parts);
-    tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(0, parts, 1),
-        [&](const tbb::blocked_range<std::size_t>& range) {
-          for (std::size_t i = range.begin(); i != range.end(); ++i) {
-            const std::size_t p = order[i];
-            const auto part_start = Clock::now();
-            try {
-              paved[p] = pave(boundaries[p], paving);
-            } catch (const Error& e) {
-              throw Error("quad2d: part " + std::to_string(p) + ": " + e.what());
-            }
-            report.part_seconds[p] = seconds_since(part_start);
-            progress.advance();
+std::vector<PavedPart> pave_parts(const Quad2dSetup& setup, std::span<const std::size_t> parts,
+                                  const PavingOptions& options, std::vector<double>& part_seconds, bool progress_bar) {
+  const std::size_t count = setup.sampled.part_loops.size();
+  std::vector<PavedPart> paved(count);
+  part_seconds.assign(count, 0);
+  for (const std::size_t p : parts)
+    if (p >= count) throw InputError("pave_parts: no part " + std::to_string(p));
+  std::vector<std::size_t> order(parts.begin(), parts.end());
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return setup.partition.part_areas[a] > setup.partition.part_areas[b];
+  });
+  PavingOptions paving = options;
+  if (paving.size == 0) paving.size = setup.size;
+  std::unique_ptr<Progress> progress;
+  if (progress_bar) progress = std::make_unique<Progress>("paving parts", order.size());
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, order.size(), 1),
+      [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+          const std::size_t p = order[i];
+          const auto part_start = Clock::now();
+          const Polygon2 boundary = part_boundary(setup.sampled, p).first;
+          try {
+            paved[p] = pave(boundary, paving);
+          } catch (const InputError& e) {
+            throw Error("quad2d: part " + std::to_string(p) + ": " + e.what());
+          } catch (const Error& e) {
+            throw Error("quad2d: part " + std::to_string(p) + ": " + e.what());
           }
-        },
-        tbb::simple_partitioner());
-  }
+          part_seconds[p] = seconds_since(part_start);
+          if (progress) progress->advance();
+        }
+      },
+      tbb::simple_partitioner());
+  return paved;
+}
+
+Quad2dResult mesh_region_quads(const Polygon2& region, const Quad2dOptions& options) {
+  const auto start = Clock::now();
+  Quad2dResult result;
+  Quad2dReport& report = result.report;
+  const Quad2dSetup setup = setup_quad2d(region, options, 1);
+  const Partition& partition = setup.partition;
+  const SampledPartition& sampled = setup.sampled;
+  const double size = setup.size;
+  const std::size_t parts = sampled.part_loops.size();
+  report.stage_seconds = setup.stage_seconds;
+  auto stage_start = Clock::now();
+  const auto stage = [&](const char* name) {
+    report.stage_seconds.emplace_back(name, seconds_since(stage_start));
+    stage_start = Clock::now();
+  };
+
+  // Paving, largest part first.
+  std::vector<std::size_t> all(parts);
+  std::iota(all.begin(), all.end(), 0);
+  std::vector<PavedPart> paved = pave_parts(setup, all, options.paving, report.part_seconds, true);
+  std::vector<std::vector<Index>> maps(parts);
+  for (std::size_t p = 0; p < parts; ++p) maps[p] = part_boundary(sampled, p).second;
   stage("paving");
 
-  // 4. Merge and relax.
+  // Merge and relax.
   result.merged = merge_parts(sampled, paved, maps);
   for (const PavedPart& part : paved) {
     report.paving.rows += part.stats.rows;
@@ -142,7 +176,7 @@ Quad2dResult mesh_region_quads(const Polygon2& region, const Quad2dOptions& opti
   report.relax = relax_near_separators(result.merged, options.relax);
   stage("relax");
 
-  // 5. Report.
+  // Report.
   const QuadQuality quality = quad_quality(result.merged.mesh);
   result.scaled_jacobian = quality.scaled_jacobian;
   report.quads = result.merged.mesh.quads.size();
@@ -155,17 +189,7 @@ Quad2dResult mesh_region_quads(const Polygon2& region, const Quad2dOptions& opti
   report.inverted = quality.inverted;
   report.singular_vertices = quality.singular_vertices;
   report.region_area = partition.metrics.region_area;
-  double mesh_area = 0;
-  for (const auto& q : result.merged.mesh.quads) {
-    const auto& P = result.merged.mesh.points;
-    // Shoelace over the quad (the points are planar).
-    for (int k = 0; k < 4; ++k) {
-      const Vec3& a = P[q[k]];
-      const Vec3& b = P[q[(k + 1) % 4]];
-      mesh_area += 0.5 * (a.x() * b.y() - b.x() * a.y());
-    }
-  }
-  report.mesh_area = mesh_area;
+  report.mesh_area = quad_mesh_area(result.merged.mesh);
   report.projection = partition.projection;
   report.partition = partition.metrics;
   stage("quality");

@@ -1,0 +1,208 @@
+// Parallel quad meshing benchmark (issue 4, dissertation §3.4): Table 3.4
+// recomputed, thread scaling and the predicted speedup of Fig. 3.9(b), and the
+// large-mesh throughput run.
+//
+//   bench_quad2d table DATA_DIR [SEGMENTS]   Table 3.4: Key/32, Pipe/16, Gulf/512,1024; all partitionings
+//   bench_quad2d scaling DATA_DIR            1 vs 2 threads; per-part times; predicted speedup 4..1024
+//   bench_quad2d large DATA_DIR QUADS        Gulf of Mexico at about QUADS quads: time, quads/s, memory
+//
+// Prints Markdown; bench/run_quad2d.sh stores it in bench/results/quad2d.md.
+#include "structmesh/io.hpp"
+#include "structmesh/quad2d.hpp"
+#include "structmesh/regions.hpp"
+
+#include <oneapi/tbb/global_control.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+using namespace structmesh;
+
+namespace {
+
+// Table 3.4, "avg / std / min / singular", keyed by "input/parts/method".
+const std::map<std::string, const char*>& dissertation() {
+  static const std::map<std::string, const char*> table = {
+      {"key/32/sequential", "0.97 / 0.13 / 0.39 / 35"},   {"pipe/16/sequential", "0.97 / 0.04 / 0.31 / 34"},
+      {"key/32/cvt", "0.98 / 0.14 / 0.38 / 233"},         {"pipe/16/cvt", "0.97 / 0.04 / 0.30 / 55"},
+      {"key/32/metis", "0.93 / 0.27 / 0.23 / 411"},       {"pipe/16/metis", "0.94 / 0.09 / 0.23 / 128"},
+      {"key/32/madd", "0.97 / 0.18 / 0.23 / 226"},        {"pipe/16/madd", "0.95 / 0.07 / 0.23 / 84"},
+      {"key/32/cvtgp", "0.98 / 0.13 / 0.38 / 216"},       {"pipe/16/cvtgp", "0.97 / 0.04 / 0.30 / 50"},
+      {"gulf/1024/cvt", "0.97 / 0.04 / 0.36 / 3158"},     {"gulf/1024/metis", "0.96 / 0.15 / 0.21 / 3491"},
+      {"gulf/1024/madd", "0.96 / 0.09 / 0.23 / 3201"},    {"gulf/1024/cvtgp", "0.98 / 0.04 / 0.36 / 3104"},
+  };
+  return table;
+}
+
+double total_seconds(const Quad2dReport& r) {
+  for (const auto& [name, seconds] : r.stage_seconds)
+    if (name == "total") return seconds;
+  return 0;
+}
+
+double perimeter(const Polygon2& region) {
+  double length = 0;
+  for (std::size_t r = 0; r < region.ring_count(); ++r) {
+    const auto ring = region.ring(r);
+    for (std::size_t i = 0; i < ring.size(); ++i) length += (ring[(i + 1) % ring.size()] - ring[i]).norm();
+  }
+  return length;
+}
+
+struct Input {
+  std::string name;
+  Polygon2 region;
+  std::vector<std::size_t> parts;
+  double size = 0;  // 0: the mean boundary segment (§3.3.1)
+};
+
+std::vector<Input> table_inputs(const std::filesystem::path& data, std::size_t segments) {
+  std::vector<Input> inputs;
+  inputs.push_back({"key", make_key_region(segments), {32}, 0});
+  inputs.push_back({"pipe", make_pipe_region(segments), {16}, 0});
+  const std::filesystem::path gulf = data / "regions" / "gulf_of_mexico.geojson";
+  if (std::filesystem::exists(gulf)) inputs.push_back({"gulf", read_region(gulf).front(), {512, 1024}, 0});
+  return inputs;
+}
+
+void table(const std::filesystem::path& data, std::size_t segments) {
+  std::printf("| input | parts | partitioning | quads | SJ avg / std / min | singular | inverted | fallback loops | "
+              "seconds | dissertation (avg / std / min / singular) |\n");
+  std::printf("|---|---:|---|---:|---|---:|---:|---:|---:|---|\n");
+  const std::vector<std::pair<std::string, PartitionMethod>> methods = {{"cvt", PartitionMethod::Cvt},
+                                                                        {"metis", PartitionMethod::Metis},
+                                                                        {"madd", PartitionMethod::Madd},
+                                                                        {"cvtgp", PartitionMethod::CvtGp}};
+  for (const Input& input : table_inputs(data, segments)) {
+    for (const std::size_t parts : input.parts) {
+      std::vector<std::pair<std::string, Quad2dOptions>> runs;
+      if (input.name != "gulf") {
+        Quad2dOptions sequential;
+        sequential.partition.parts = 1;
+        runs.emplace_back("sequential", sequential);
+      }
+      for (const auto& [name, method] : methods) {
+        Quad2dOptions options;
+        options.partition.parts = parts;
+        options.partition.method = method;
+        runs.emplace_back(name, options);
+      }
+      for (auto& [name, options] : runs) {
+        options.size = input.size;
+        const std::string key = input.name + "/" + std::to_string(parts) + "/" + name;
+        const auto printed = dissertation().find(key);
+        const char* anchor = printed == dissertation().end() ? "-" : printed->second;
+        try {
+          const Quad2dResult result = mesh_region_quads(input.region, options);
+          const Quad2dReport& r = result.report;
+          std::printf("| %s | %zu | %s | %zu | %.3f / %.3f / %.3f | %zu | %zu | %zu | %.2f | %s |\n", input.name.c_str(),
+                      r.parts, name.c_str(), r.quads, r.scaled_jacobian_avg, r.scaled_jacobian_std,
+                      r.scaled_jacobian_min, r.singular_vertices, r.inverted, r.paving.fallback_loops,
+                      total_seconds(r), anchor);
+        } catch (const std::exception& e) {
+          std::printf("| %s | %zu | %s | failed: %s | | | | | | %s |\n", input.name.c_str(), parts, name.c_str(),
+                      e.what(), anchor);
+        }
+        std::fflush(stdout);
+      }
+    }
+  }
+}
+
+void scaling(const std::filesystem::path& data) {
+  const std::filesystem::path gulf_path = data / "regions" / "gulf_of_mexico.geojson";
+  const bool have_gulf = std::filesystem::exists(gulf_path);
+  const Polygon2 region = have_gulf ? read_region(gulf_path).front() : make_key_region(20000);
+  const char* name = have_gulf ? "gulf" : "key";
+  std::printf("### Threads (%s, 64 parts, CVT-GP)\n\n", name);
+  std::printf("| threads | quads | partition s | paving s | relax s | total s | quads/s | speedup |\n");
+  std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  double one_thread = 0;
+  std::vector<double> part_seconds_1024;
+  for (const int threads : {1, 2}) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+    Quad2dOptions options;
+    options.partition.parts = 64;
+    const Quad2dResult result = mesh_region_quads(region, options);
+    const Quad2dReport& r = result.report;
+    std::map<std::string, double> stage(r.stage_seconds.begin(), r.stage_seconds.end());
+    const double total = total_seconds(r);
+    if (threads == 1) one_thread = total;
+    std::printf("| %d | %zu | %.2f | %.2f | %.2f | %.2f | %.0f | %.2f |\n", threads, r.quads, stage["partition"],
+                stage["paving"], stage["relax"], total, static_cast<double>(r.quads) / total, one_thread / total);
+  }
+  // Per-part work measured on one thread at 1024 parts predicts the speedup on
+  // 4..1024 processes (LPT assignment): Fig. 3.9(b)'s 2.78..601.5.
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    Quad2dOptions options;
+    options.partition.parts = 1024;
+    const Quad2dResult result = mesh_region_quads(region, options);
+    part_seconds_1024 = result.report.part_seconds;
+    std::map<std::string, double> stage(result.report.stage_seconds.begin(), result.report.stage_seconds.end());
+    std::vector<double> sorted = part_seconds_1024;
+    std::sort(sorted.begin(), sorted.end());
+    const auto at = [&](double q) { return sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1))]; };
+    std::printf("\n### Per-part paving time (%s, 1024 parts, one thread, %zu quads)\n\n", name, result.report.quads);
+    std::printf("| min | 25%% | median | 75%% | max | max / mean |\n|---:|---:|---:|---:|---:|---:|\n");
+    double mean = 0;
+    for (const double s : sorted) mean += s;
+    mean /= static_cast<double>(sorted.size());
+    std::printf("| %.4f | %.4f | %.4f | %.4f | %.4f | %.2f |\n", sorted.front(), at(0.25), at(0.5), at(0.75),
+                sorted.back(), sorted.back() / mean);
+    std::printf("\n### Predicted speedup of the meshing stage (LPT assignment of the measured per-part times)\n\n");
+    std::printf("| processes | predicted speedup | efficiency | Fig. 3.9(b) |\n|---:|---:|---:|---|\n");
+    for (const std::size_t processes : {4, 16, 64, 256, 512, 1024}) {
+      const double speedup = predicted_speedup(part_seconds_1024, processes);
+      const char* anchor = processes == 4 ? "2.78" : processes == 1024 ? "601.5" : "-";
+      std::printf("| %zu | %.1f | %.2f | %s |\n", processes, speedup, speedup / static_cast<double>(processes), anchor);
+    }
+  }
+}
+
+void large(const std::filesystem::path& data, std::size_t quads) {
+  const std::filesystem::path gulf_path = data / "regions" / "gulf_of_mexico.geojson";
+  const bool have_gulf = std::filesystem::exists(gulf_path);
+  const Polygon2 region = have_gulf ? read_region(gulf_path).front() : make_key_region(20000);
+  Quad2dOptions options;
+  options.target_quads = quads;
+  options.progress = true;
+  const Quad2dResult result = mesh_region_quads(region, options);
+  const Quad2dReport& r = result.report;
+  std::map<std::string, double> stage(r.stage_seconds.begin(), r.stage_seconds.end());
+  std::printf("| input | quads | parts | SJ avg / min | inverted | partition s | paving s | merge s | relax s | "
+              "quality s | total s | quads/s | peak RSS MB |\n");
+  std::printf("|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  const double total = total_seconds(r);
+  std::printf("| %s | %zu | %zu | %.3f / %.3f | %zu | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.0f | %.0f |\n",
+              have_gulf ? "gulf" : "key", r.quads, r.parts, r.scaled_jacobian_avg, r.scaled_jacobian_min, r.inverted,
+              stage["partition"], stage["paving"], stage["merge"], stage["relax"], stage["quality"], total,
+              static_cast<double>(r.quads) / total, r.peak_rss_mb);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::string mode = argc > 1 ? argv[1] : "";
+  try {
+    if (mode == "table" && argc >= 3) {
+      table(argv[2], argc > 3 ? std::strtoul(argv[3], nullptr, 10) : 2000);
+    } else if (mode == "scaling" && argc >= 3) {
+      scaling(argv[2]);
+    } else if (mode == "large" && argc >= 4) {
+      large(argv[2], std::strtoul(argv[3], nullptr, 10));
+    } else {
+      std::fprintf(stderr, "usage: bench_quad2d table DATA_DIR [SEGMENTS] | scaling DATA_DIR | large DATA_DIR QUADS\n");
+      return 2;
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_quad2d: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
