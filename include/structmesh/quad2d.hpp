@@ -33,10 +33,10 @@ struct PavingOptions {
 };
 
 struct PavingStats {
-  std::size_t rows = 0;          // rows (layers) generated
-  std::size_t seams = 0;         // seam closures of small front angles
-  std::size_t splits = 0;        // front loops split or joined by a chord
-  std::size_t templates = 0;     // small loops closed by a template
+  std::size_t rows = 0;            // rows (layers) generated
+  std::size_t seams = 0;           // seam closures of small front angles
+  std::size_t splits = 0;          // front loops split or joined by a chord
+  std::size_t templates = 0;       // small loops closed by a template
   std::size_t fallback_loops = 0;  // loops closed by the fallback (not by paving)
 };
 
@@ -85,7 +85,7 @@ std::pair<Polygon2, std::vector<Index>> part_boundary(const SampledPartition& sa
 // Merge and relaxation
 
 struct MergedMesh {
-  QuadMesh mesh;                        ///< z = 0
+  QuadMesh mesh;  ///< z = 0
   std::vector<std::int32_t> part_of_quad;
   std::vector<std::uint8_t> fixed;      ///< per point: region boundary (never moved)
   std::vector<std::uint8_t> separator;  ///< per point: on a separator
@@ -101,8 +101,8 @@ struct RelaxOptions {
   int iterations = 50;  ///< Laplacian sweeps (§3.3.2)
 };
 struct RelaxStats {
-  std::size_t moved_vertices = 0;   ///< vertices in the relaxation zone
-  std::size_t rejected_moves = 0;   ///< moves refused because a quad would invert
+  std::size_t moved_vertices = 0;  ///< vertices in the relaxation zone
+  std::size_t rejected_moves = 0;  ///< moves refused because a quad would invert
   int iterations = 0;
 };
 /// Laplacian relaxation of the vertices within `rings` rings of the separators
@@ -118,7 +118,7 @@ struct Quad2dOptions {
   double size = 0;               ///< target edge length (metric units); 0: see below
   std::size_t target_quads = 0;  ///< about this many quads (size derived from the area)
   /// With neither: the mean input boundary segment length (§3.3.1).
-  PartitionOptions partition;    ///< parts = 0 picks a count for the threads available
+  PartitionOptions partition;  ///< parts = 0 picks a count for the threads available
   PavingOptions paving;
   RelaxOptions relax;
   bool progress = false;
