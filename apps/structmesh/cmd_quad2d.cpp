@@ -72,7 +72,8 @@ nlohmann::json report_json(const Quad2dResult& result, const Quad2dSettings& set
           {"points", r.points},
           {"parts", r.parts},
           {"size", r.size},
-          {"scaled_jacobian", {{"avg", r.scaled_jacobian_avg}, {"std", r.scaled_jacobian_std}, {"min", r.scaled_jacobian_min}}},
+          {"scaled_jacobian",
+           {{"avg", r.scaled_jacobian_avg}, {"std", r.scaled_jacobian_std}, {"min", r.scaled_jacobian_min}}},
           {"inverted", r.inverted},
           {"singular_vertices", r.singular_vertices},
           {"region_area", r.region_area},
@@ -104,15 +105,18 @@ Action add_quad2d_command(CLI::App& command, const GlobalOptions& global) {
   Quad2dOptions& o = settings->options;
   command.add_option("REGION", settings->source, "Region file (.geojson, .poly), or the built-in key or pipe")
       ->required();
-  auto* size = command.add_option("--size", settings->size, "Target quad edge length (metric units; metres for lon/lat)")
-                   ->check(CLI::PositiveNumber);
+  auto* size =
+      command.add_option("--size", settings->size, "Target quad edge length (metric units; metres for lon/lat)")
+          ->check(CLI::PositiveNumber);
   command.add_option("--quads", settings->quads, "About this many quads (derives --size from the area)")
       ->check(CLI::PositiveNumber)
       ->excludes(size);
-  command.add_option("-k,--parts", o.partition.parts, "Parts (default: 1 below 20k quads, else 4 per thread and 1 per 250k quads)");
+  command.add_option("-k,--parts", o.partition.parts,
+                     "Parts (default: 1 below 20k quads, else 4 per thread and 1 per 250k quads)");
   command.add_option("--method", settings->method, "Partitioning: cvtgp (default), cvt, metis, madd or exact")
       ->check(CLI::IsMember({"cvtgp", "cvt", "metis", "madd", "exact"}));
-  command.add_option("--cells", o.partition.cells, "CVT cells / fine triangles of the partitioning")->capture_default_str();
+  command.add_option("--cells", o.partition.cells, "CVT cells / fine triangles of the partitioning")
+      ->capture_default_str();
   command.add_option("--seed", o.partition.seed, "Seed of the partitioning")->capture_default_str();
   command.add_option("--relax-rings", o.relax.rings, "Rings around the separators that relaxation moves (§3.3.2)")
       ->capture_default_str()
@@ -123,7 +127,8 @@ Action add_quad2d_command(CLI::App& command, const GlobalOptions& global) {
   command.add_option("--segments", settings->segments, "Boundary segments of the built-in key or pipe")
       ->check(CLI::Range(std::size_t{16}, std::size_t{200'000'000}));
   command.add_option("--polygon", settings->polygon, "Which polygon of a multi-polygon file: INDEX or largest");
-  command.add_flag("--lonlat-output", settings->lonlat_output, "Write lon/lat input back in degrees (default: the projected plane)");
+  command.add_flag("--lonlat-output", settings->lonlat_output,
+                   "Write lon/lat input back in degrees (default: the projected plane)");
   command.add_option("-o,--output", settings->outputs, "Outputs: .vtu, .pvtu, .msh, .mesh (repeatable)");
 
   return [&global, settings]() {
@@ -146,8 +151,8 @@ Action add_quad2d_command(CLI::App& command, const GlobalOptions& global) {
     for (const auto& [name, seconds] : r.stage_seconds)
       if (name == "total") total = seconds;
     char line[256];
-    std::snprintf(line, sizeof line, "%zu quads in %zu parts (size %.6g), %.2f s, %.0f quads/s", r.quads, r.parts, r.size,
-                  total, total > 0 ? static_cast<double>(r.quads) / total : 0.0);
+    std::snprintf(line, sizeof line, "%zu quads in %zu parts (size %.6g), %.2f s, %.0f quads/s", r.quads, r.parts,
+                  r.size, total, total > 0 ? static_cast<double>(r.quads) / total : 0.0);
     say(global, line);
     std::snprintf(line, sizeof line, "  scaled Jacobian avg/std/min  %.4f / %.4f / %.4f", r.scaled_jacobian_avg,
                   r.scaled_jacobian_std, r.scaled_jacobian_min);

@@ -69,5 +69,4 @@ nlohmann::json metrics_json(const Partition& partition) {
           {"peak_rss_mb", m.peak_rss_mb}};
 }
 
-
 }  // namespace structmesh::cli

@@ -28,13 +28,13 @@ namespace {
 // Table 3.4, "avg / std / min / singular", keyed by "input/parts/method".
 const std::map<std::string, const char*>& dissertation() {
   static const std::map<std::string, const char*> table = {
-      {"key/32/sequential", "0.97 / 0.13 / 0.39 / 35"},   {"pipe/16/sequential", "0.97 / 0.04 / 0.31 / 34"},
-      {"key/32/cvt", "0.98 / 0.14 / 0.38 / 233"},         {"pipe/16/cvt", "0.97 / 0.04 / 0.30 / 55"},
-      {"key/32/metis", "0.93 / 0.27 / 0.23 / 411"},       {"pipe/16/metis", "0.94 / 0.09 / 0.23 / 128"},
-      {"key/32/madd", "0.97 / 0.18 / 0.23 / 226"},        {"pipe/16/madd", "0.95 / 0.07 / 0.23 / 84"},
-      {"key/32/cvtgp", "0.98 / 0.13 / 0.38 / 216"},       {"pipe/16/cvtgp", "0.97 / 0.04 / 0.30 / 50"},
-      {"gulf/1024/cvt", "0.97 / 0.04 / 0.36 / 3158"},     {"gulf/1024/metis", "0.96 / 0.15 / 0.21 / 3491"},
-      {"gulf/1024/madd", "0.96 / 0.09 / 0.23 / 3201"},    {"gulf/1024/cvtgp", "0.98 / 0.04 / 0.36 / 3104"},
+      {"key/32/sequential", "0.97 / 0.13 / 0.39 / 35"}, {"pipe/16/sequential", "0.97 / 0.04 / 0.31 / 34"},
+      {"key/32/cvt", "0.98 / 0.14 / 0.38 / 233"},       {"pipe/16/cvt", "0.97 / 0.04 / 0.30 / 55"},
+      {"key/32/metis", "0.93 / 0.27 / 0.23 / 411"},     {"pipe/16/metis", "0.94 / 0.09 / 0.23 / 128"},
+      {"key/32/madd", "0.97 / 0.18 / 0.23 / 226"},      {"pipe/16/madd", "0.95 / 0.07 / 0.23 / 84"},
+      {"key/32/cvtgp", "0.98 / 0.13 / 0.38 / 216"},     {"pipe/16/cvtgp", "0.97 / 0.04 / 0.30 / 50"},
+      {"gulf/1024/cvt", "0.97 / 0.04 / 0.36 / 3158"},   {"gulf/1024/metis", "0.96 / 0.15 / 0.21 / 3491"},
+      {"gulf/1024/madd", "0.96 / 0.09 / 0.23 / 3201"},  {"gulf/1024/cvtgp", "0.98 / 0.04 / 0.36 / 3104"},
   };
   return table;
 }
@@ -71,8 +71,9 @@ std::vector<Input> table_inputs(const std::filesystem::path& data, std::size_t s
 }
 
 void table(const std::filesystem::path& data, std::size_t segments) {
-  std::printf("| input | parts | partitioning | quads | SJ avg / std / min | singular | inverted | fallback loops | "
-              "seconds | dissertation (avg / std / min / singular) |\n");
+  std::printf(
+      "| input | parts | partitioning | quads | SJ avg / std / min | singular | inverted | fallback loops | "
+      "seconds | dissertation (avg / std / min / singular) |\n");
   std::printf("|---|---:|---|---:|---|---:|---:|---:|---:|---|\n");
   const std::vector<std::pair<std::string, PartitionMethod>> methods = {{"cvt", PartitionMethod::Cvt},
                                                                         {"metis", PartitionMethod::Metis},
@@ -100,10 +101,10 @@ void table(const std::filesystem::path& data, std::size_t segments) {
         try {
           const Quad2dResult result = mesh_region_quads(input.region, options);
           const Quad2dReport& r = result.report;
-          std::printf("| %s | %zu | %s | %zu | %.3f / %.3f / %.3f | %zu | %zu | %zu | %.2f | %s |\n", input.name.c_str(),
-                      r.parts, name.c_str(), r.quads, r.scaled_jacobian_avg, r.scaled_jacobian_std,
-                      r.scaled_jacobian_min, r.singular_vertices, r.inverted, r.paving.fallback_loops,
-                      total_seconds(r), anchor);
+          std::printf("| %s | %zu | %s | %zu | %.3f / %.3f / %.3f | %zu | %zu | %zu | %.2f | %s |\n",
+                      input.name.c_str(), r.parts, name.c_str(), r.quads, r.scaled_jacobian_avg, r.scaled_jacobian_std,
+                      r.scaled_jacobian_min, r.singular_vertices, r.inverted, r.paving.fallback_loops, total_seconds(r),
+                      anchor);
         } catch (const std::exception& e) {
           std::printf("| %s | %zu | %s | failed: %s | | | | | | %s |\n", input.name.c_str(), parts, name.c_str(),
                       e.what(), anchor);
@@ -147,7 +148,9 @@ void scaling(const std::filesystem::path& data) {
     std::map<std::string, double> stage(result.report.stage_seconds.begin(), result.report.stage_seconds.end());
     std::vector<double> sorted = part_seconds_1024;
     std::sort(sorted.begin(), sorted.end());
-    const auto at = [&](double q) { return sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1))]; };
+    const auto at = [&](double q) {
+      return sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1))];
+    };
     std::printf("\n### Per-part paving time (%s, 1024 parts, one thread, %zu quads)\n\n", name, result.report.quads);
     std::printf("| min | 25%% | median | 75%% | max | max / mean |\n|---:|---:|---:|---:|---:|---:|\n");
     double mean = 0;
@@ -175,8 +178,9 @@ void large(const std::filesystem::path& data, std::size_t quads) {
   const Quad2dResult result = mesh_region_quads(region, options);
   const Quad2dReport& r = result.report;
   std::map<std::string, double> stage(r.stage_seconds.begin(), r.stage_seconds.end());
-  std::printf("| input | quads | parts | SJ avg / min | inverted | partition s | paving s | merge s | relax s | "
-              "quality s | total s | quads/s | peak RSS MB |\n");
+  std::printf(
+      "| input | quads | parts | SJ avg / min | inverted | partition s | paving s | merge s | relax s | "
+      "quality s | total s | quads/s | peak RSS MB |\n");
   std::printf("|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   const double total = total_seconds(r);
   std::printf("| %s | %zu | %zu | %.3f / %.3f | %zu | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.0f | %.0f |\n",

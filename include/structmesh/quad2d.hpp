@@ -125,7 +125,7 @@ struct RelaxPiece {
 /// Exchanges between the processes that hold copies of a point. The defaults are
 /// those of a single process (nothing to exchange).
 struct RelaxComm {
-  std::function<void(std::vector<Vec3>&)> sync_points = [](std::vector<Vec3>&) {};  ///< owner -> copies
+  std::function<void(std::vector<Vec3>&)> sync_points = [](std::vector<Vec3>&) {};                 ///< owner -> copies
   std::function<void(std::vector<std::uint8_t>&)> sync_flags = [](std::vector<std::uint8_t>&) {};  ///< owner -> copies
   std::function<void(std::vector<std::uint8_t>&)> and_flags = [](std::vector<std::uint8_t>&) {};  ///< AND of all copies
   std::function<bool(bool)> any = [](bool value) { return value; };

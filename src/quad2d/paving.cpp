@@ -1,0 +1,158 @@
+// pave(): all-quad mesh of one part by advancing-front paving (Blacker & Stephenson
+// 1991; dissertation §3.3.1). The driver: input checks, the front loops, the work
+// queue of loops (template, chord splits, seams, a row, or the fallback), the final
+// smoothing and the output with the input points first.
+#include "quad2d/paving.hpp"
+
+#include "structmesh/error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <string>
+
+namespace structmesh {
+
+namespace paving {
+
+Paver::Paver(const Polygon2& boundary, const PavingOptions& options) : options_(options) {
+  const std::size_t rings = boundary.ring_count();
+  if (rings == 0) throw InputError("pave: the part has no boundary loop");
+  if (boundary.points.size() % 2 != 0)
+    throw InputError("pave: the part has " + std::to_string(boundary.points.size()) +
+                     " boundary points; an all-quad mesh needs an even number");
+  if (boundary.points.size() >= kInvalidIndex / 8) throw InputError("pave: too many boundary points");
+  double perimeter = 0;
+  for (std::size_t r = 0; r < rings; ++r) {
+    const auto ring = boundary.ring(r);
+    if (ring.size() < 3)
+      throw InputError("pave: loop " + std::to_string(r) + " has " + std::to_string(ring.size()) +
+                       " points; a loop needs at least 3");
+    for (const Vec2& p : ring)
+      if (!std::isfinite(p.x()) || !std::isfinite(p.y()))
+        throw InputError("pave: loop " + std::to_string(r) + " has a non-finite point");
+    const double a = signed_area(ring);
+    if (r == 0 && !(a > 0)) throw InputError("pave: the outer loop (ring 0) must be counter-clockwise");
+    if (r > 0 && !(a < 0)) throw InputError("pave: hole loop " + std::to_string(r) + " must be clockwise");
+    for (std::size_t i = 0; i < ring.size(); ++i) perimeter += (ring[(i + 1) % ring.size()] - ring[i]).norm();
+  }
+  size_ = options.size > 0 ? options.size : perimeter / static_cast<double>(boundary.points.size());
+  if (!(size_ > 0)) throw InputError("pave: the boundary has zero length");
+
+  mesh_.points = boundary.points;
+  mesh_.fixed_count = static_cast<Index>(boundary.points.size());
+  mesh_.first_record.assign(boundary.points.size(), kInvalidIndex);
+  const BoundingBox2 box = boundary.bounding_box();
+  const double expected = std::abs(area(boundary)) / (size_ * size_) + static_cast<double>(boundary.points.size());
+  grid_.init(box, size_, static_cast<std::size_t>(expected));
+  mesh_.points.reserve(static_cast<std::size_t>(1.2 * expected) + 16);
+  mesh_.quads.reserve(static_cast<std::size_t>(1.2 * expected) + 16);
+
+  for (std::size_t r = 0; r < rings; ++r) {
+    const auto id = static_cast<Index>(loops_.size());
+    const Index begin = boundary.ring_offsets[r], end = boundary.ring_offsets[r + 1];
+    Loop loop;
+    loop.alive = true;
+    loop.size = end - begin;
+    loop.area = signed_area(boundary.ring(r));
+    Index first = kInvalidIndex, last = kInvalidIndex;
+    for (Index p = begin; p < end; ++p) {
+      const Index n = new_node(p, id);
+      if (first == kInvalidIndex) {
+        first = n;
+      } else {
+        set_next(last, n);
+      }
+      last = n;
+    }
+    set_next(last, first);
+    loop.head = first;
+    loops_.push_back(loop);
+  }
+}
+
+bool Paver::step(Index loop) {
+  const Loop& l = loops_[loop];
+  if (l.area > 0 && l.size <= 8 && !contains_open_hole(loop) && close_with_template(loop)) return true;
+  if (splits(loop)) return true;
+  if (seams(loop)) return true;
+  if (row(loop)) {
+    smooth_points(released_, options_.smoothing_iterations);
+    released_.clear();
+    return true;
+  }
+  return false;
+}
+
+PavedPart Paver::run() {
+  std::deque<Index> queue;
+  for (Index l = 0; l < loops_.size(); ++l) queue.push_back(l);
+  std::size_t idle = 0;  // consecutive steps without progress
+  while (!queue.empty()) {
+    const Index l = queue.front();
+    queue.pop_front();
+    if (!loops_[l].alive) continue;
+    const std::size_t loops_before = loops_.size();
+    const bool progress = step(l);
+    for (Index k = static_cast<Index>(loops_before); k < loops_.size(); ++k) queue.push_back(k);
+    if (progress) {
+      idle = 0;
+      loops_[l].stuck = 0;
+      if (loops_[l].alive) queue.push_back(l);
+      continue;
+    }
+    ++loops_[l].stuck;
+    // A loop bounding its component that makes no progress twice is closed by the
+    // fallback; a hole's loop waits for the front around it.
+    if (loops_[l].area > 0 && loops_[l].stuck >= 2) {
+      fallback(l);
+      idle = 0;
+      continue;
+    }
+    queue.push_back(l);
+    if (++idle > 2 * queue.size() + 2) {
+      Index outer = kInvalidIndex;
+      for (const Index k : queue)
+        if (loops_[k].alive && loops_[k].area > 0 && (outer == kInvalidIndex || k < outer)) outer = k;
+      if (outer == kInvalidIndex)
+        throw Error("paving: " + std::to_string(queue.size()) +
+                    " front loop(s) are left without an enclosing front (inconsistent loop orientation?)");
+      fallback(outer);
+      idle = 0;
+    }
+  }
+  released_.clear();
+  final_smoothing();
+
+  // Output: the input points, then the new points still in use, in creation order.
+  PavedPart part;
+  std::vector<Index> remap(mesh_.points.size(), kInvalidIndex);
+  part.points.assign(mesh_.points.begin(), mesh_.points.begin() + mesh_.fixed_count);
+  for (Index p = 0; p < mesh_.fixed_count; ++p) remap[p] = p;
+  for (Index p = mesh_.fixed_count; p < mesh_.points.size(); ++p) {
+    if (mesh_.first_record[p] == kInvalidIndex) continue;
+    remap[p] = static_cast<Index>(part.points.size());
+    part.points.push_back(mesh_.points[p]);
+  }
+  part.quads.reserve(mesh_.quads.size());
+  std::size_t inverted = 0;
+  for (const auto& q : mesh_.quads) {
+    const auto& P = mesh_.points;
+    if (!(scaled_jacobian(P[q[0]], P[q[1]], P[q[2]], P[q[3]]) > 0)) ++inverted;
+    part.quads.push_back({remap[q[0]], remap[q[1]], remap[q[2]], remap[q[3]]});
+  }
+  if (inverted > 0)
+    throw Error("paving: " + std::to_string(inverted) + " of " + std::to_string(mesh_.quads.size()) +
+                " quads are inverted or degenerate after smoothing");
+  part.stats = stats_;
+  return part;
+}
+
+}  // namespace paving
+
+PavedPart pave(const Polygon2& boundary, const PavingOptions& options) {
+  paving::Paver paver(boundary, options);
+  return paver.run();
+}
+
+}  // namespace structmesh

@@ -1,0 +1,206 @@
+// Private pieces of the paving mesher (pave(), quad2d.hpp): the growing mesh, the
+// advancing front with its spatial grid, and the Paver that drives rows, seams,
+// splits, templates and the fallback (Blacker & Stephenson 1991; dissertation §3.3.1).
+//
+// Everything is flat arrays with 32-bit indices. The front is a set of closed loops
+// stored as doubly linked lists of front nodes; every front edge has the unmeshed
+// region on its left, so an outer loop runs counter-clockwise and a hole clockwise.
+// A front node refers to a mesh point; a point can carry several front nodes (both
+// sides of a chord that joined a hole to the outer loop).
+#pragma once
+
+#include "structmesh/mesh.hpp"
+#include "structmesh/quad2d.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace structmesh::paving {
+
+inline constexpr double kPi = 3.14159265358979323846;
+
+inline double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+/// Counter-clockwise angle from direction a to direction b, in [0, 2π).
+inline double ccw_angle(const Vec2& a, const Vec2& b) {
+  const double t = std::atan2(cross(a, b), a.dot(b));
+  return t < 0 ? t + 2 * kPi : t;
+}
+
+/// Verdict's quad scaled Jacobian in the plane with +z as reference normal
+/// (quality.hpp): the minimum over the corners of the corner's cross product over
+/// the two edge lengths; -1 for a zero-length edge so that it is never accepted.
+inline double scaled_jacobian(const Vec2& p0, const Vec2& p1, const Vec2& p2, const Vec2& p3) {
+  const Vec2 e0 = p1 - p0, e1 = p2 - p1, e2 = p3 - p2, e3 = p0 - p3;
+  const double l0 = e0.squaredNorm(), l1 = e1.squaredNorm(), l2 = e2.squaredNorm(), l3 = e3.squaredNorm();
+  if (!(l0 > 1e-300 && l1 > 1e-300 && l2 > 1e-300 && l3 > 1e-300)) return -1;
+  const double j0 = cross(e3, e0) / std::sqrt(l3 * l0);
+  const double j1 = cross(e0, e1) / std::sqrt(l0 * l1);
+  const double j2 = cross(e1, e2) / std::sqrt(l1 * l2);
+  const double j3 = cross(e2, e3) / std::sqrt(l2 * l3);
+  return std::min(std::min(j0, j1), std::min(j2, j3));
+}
+
+inline double quad_area(const Vec2& p0, const Vec2& p1, const Vec2& p2, const Vec2& p3) {
+  return 0.5 * (cross(p2 - p0, p3 - p1));
+}
+
+/// Do the closed segments ab and cd share a point? Exact orientation signs on the
+/// double inputs are not needed here: a near-touch counts as a touch (conservative).
+bool segments_intersect(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d);
+double point_segment_distance(const Vec2& p, const Vec2& a, const Vec2& b);
+
+/// The mesh being built: input points first, then new points; quads counter-clockwise.
+/// Point -> incident quads as singly linked records in flat arrays (quads are only
+/// ever added, never removed).
+struct GrowingMesh {
+  std::vector<Vec2> points;
+  std::vector<std::array<Index, 4>> quads;
+  std::vector<Index> first_record;  // per point
+  std::vector<Index> record_quad, record_next;
+  Index fixed_count = 0;  // input points: never moved
+
+  Index add_point(const Vec2& p);
+  Index add_quad(const std::array<Index, 4>& q);
+  /// Minimum scaled Jacobian over the quads around point p, with p placed at `at`.
+  double min_quality_around(Index p, const Vec2& at) const;
+  template <class F>
+  void for_each_quad(Index p, F&& f) const {
+    for (Index r = first_record[p]; r != kInvalidIndex; r = record_next[r]) f(record_quad[r]);
+  }
+  /// Moves every quad of point `from` to point `to` (a seam): `from` is left unused.
+  void merge_point(Index from, Index to);
+};
+
+/// Uniform grid over the part's bounding box holding front edges (by their start
+/// node) in every cell their bounding box overlaps. Entries are removed lazily: an
+/// entry is stale once its start node died or points to another next node.
+class EdgeGrid {
+ public:
+  void init(const BoundingBox2& box, double cell, std::size_t expected_points);
+  void insert(Index node, Index next, const Vec2& a, const Vec2& b);
+  /// Visits (node, next) of every live entry in the cells overlapping [lo, hi]; an
+  /// edge can be visited more than once. `live(node, next)` says whether it is current.
+  template <class Live, class F>
+  void visit(const Vec2& lo, const Vec2& hi, Live&& live, F&& f) {
+    int x0, y0, x1, y1;
+    cell_range(lo, hi, x0, y0, x1, y1);
+    for (int y = y0; y <= y1; ++y) {
+      for (int x = x0; x <= x1; ++x) {
+        Index* link = &head_[static_cast<std::size_t>(y) * nx_ + x];
+        while (*link != kInvalidIndex) {
+          const Index e = *link;
+          if (!live(node_[e], next_node_[e])) {
+            *link = link_[e];  // unlink the stale entry and recycle it
+            link_[e] = free_;
+            free_ = e;
+            continue;
+          }
+          if (!f(node_[e], next_node_[e])) return;
+          link = &link_[e];
+        }
+      }
+    }
+  }
+  double cell() const { return cell_; }
+
+ private:
+  void cell_range(const Vec2& lo, const Vec2& hi, int& x0, int& y0, int& x1, int& y1) const;
+  Vec2 origin_{0, 0};
+  double cell_ = 1, inv_cell_ = 1;
+  int nx_ = 1, ny_ = 1;
+  std::vector<Index> head_;
+  std::vector<Index> node_, next_node_, link_;
+  Index free_ = kInvalidIndex;
+};
+
+struct Loop {
+  Index head = kInvalidIndex;
+  Index size = 0;
+  double area = 0;  // signed: > 0 for the outer boundary of an unmeshed component
+  bool alive = false;
+  int stuck = 0;  // consecutive steps without progress
+};
+
+/// A slot of a quad being added: an existing front node or a planned new point.
+struct Slot {
+  bool planned = false;
+  Index id = kInvalidIndex;  // front node, or planned point
+};
+
+class Paver {
+ public:
+  Paver(const Polygon2& boundary, const PavingOptions& options);
+  PavedPart run();
+
+ private:
+  // --- front (paving_front.cpp)
+  Index new_node(Index point, Index loop);
+  void set_next(Index a, Index b);  // links a -> b and registers the edge
+  void kill_node(Index n);
+  const Vec2& pos(Index node) const { return mesh_.points[node_point_[node]]; }
+  double interior_angle(Index node) const;
+  bool edge_live(Index node, Index next) const { return node_alive_[node] && node_next_[node] == next; }
+  /// Does the segment ab cross a front edge not incident to points pa / pb
+  /// (kInvalidIndex: a new point)?
+  bool segment_blocked(const Vec2& a, const Vec2& b, Index pa, Index pb);
+  /// Distance from p to the nearest front edge within `radius`, ignoring edges incident
+  /// to the points in `ignore`; `radius` when there is none.
+  double clearance(const Vec2& p, double radius, std::span<const Index> ignore);
+  /// Is any front point (other than the quad's) strictly inside the convex quad?
+  bool point_inside(const std::array<Vec2, 4>& q, std::span<const Index> ignore);
+  /// Adds a quad whose existing nodes form one chain of front edges; new points are
+  /// created for the planned slots. Returns false (and changes nothing) when the quad
+  /// is not valid: poor shape, leaves the unmeshed region, crosses the front.
+  bool try_quad(const std::array<Slot, 4>& slots, double min_quality, double local_size);
+  void relabel(Index start, Index stop, Index loop);
+  std::vector<Index> loop_nodes(Index loop) const;
+
+  // --- rows, seams and splits (paving_rows.cpp)
+  bool row(Index loop);
+  bool seams(Index loop);
+  bool splits(Index loop);
+  bool apply_chord(Index a, Index b, int interior, bool join);
+  double local_size(Index node) const;
+  /// Distance from the node along direction dir to the front (edges not at the node),
+  /// or `range` when nothing is nearer.
+  double ray_gap(Index node, const Vec2& dir, double range);
+
+  // --- templates and fallback (paving_close.cpp)
+  bool close_with_template(Index loop);
+  void fallback(Index loop);
+  bool contains_open_hole(Index loop) const;
+  bool step(Index loop);
+
+  // --- smoothing (paving_smooth.cpp)
+  void smooth_points(std::span<const Index> pts, int sweeps);
+  /// Moves an interior point towards the isoparametric (parallelogram) average of its
+  /// quads when that does not lower the worst quad below min(its old value, 0.5);
+  /// returns the distance moved.
+  double smooth_point(Index p);
+  /// Pattern search maximising the minimum scaled Jacobian of the quads around p.
+  bool optimize_point(Index p);
+  void final_smoothing();
+
+  void emit_quad(const std::array<Index, 4>& q);
+
+  const PavingOptions options_;
+  double size_ = 0;
+  GrowingMesh mesh_;
+  EdgeGrid grid_;
+  std::vector<Index> node_point_, node_next_, node_prev_, node_loop_;
+  std::vector<std::uint8_t> node_alive_;
+  std::vector<std::uint32_t> point_fronts_;  // per point: live front nodes on it
+  std::vector<Loop> loops_;
+  std::vector<Vec2> planned_pos_;
+  std::vector<Index> planned_node_;
+  std::vector<Index> index_of_;  // scratch: position of a node along its loop (splits)
+  std::vector<Index> released_;  // points that left the front since the last smoothing
+  PavingStats stats_;
+};
+
+}  // namespace structmesh::paving

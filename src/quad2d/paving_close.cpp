@@ -1,0 +1,337 @@
+// Closing small loops with templates, and the fallback for a loop paving cannot close.
+//
+// Templates (dissertation §3.3.1: "the wave front propagates until the front has 6 or
+// fewer vertices, by when a template is used"): every tiling of a loop of 4, 6 or 8
+// nodes built from chords (with 0 or 1 interior node) and fans around one interior
+// point is tried; its interior points are optimised and the valid tiling with the
+// best minimum scaled Jacobian wins.
+//
+// Fallback: a constrained Delaunay triangulation of the loop (and the holes still open
+// inside it) with interior points on a grid of the target size, whose triangles are
+// paired into quads by a maximum-cardinality matching on the dual graph.
+#include "quad2d/paving.hpp"
+
+#include "structmesh/error.hpp"
+#include "structmesh/triangulate.hpp"
+
+#include <boost/graph/adjacency_list.hpp>
+#include <boost/graph/max_cardinality_matching.hpp>
+
+#include <algorithm>
+#include <map>
+#include <string>
+
+namespace structmesh::paving {
+
+namespace {
+
+struct Tiling {
+  std::vector<std::array<int, 4>> quads;  // refs: < n boundary node, else n + extra index
+  std::vector<Vec2> extra;
+};
+
+class TemplateSearch {
+ public:
+  explicit TemplateSearch(std::vector<Vec2> boundary) : boundary_(std::move(boundary)), n_(boundary_.size()) {}
+
+  void enumerate(std::vector<std::vector<int>> pending, Tiling base, bool allow_chord_point) {
+    if (pending.empty()) {
+      tilings_.push_back(std::move(base));
+      return;
+    }
+    const std::vector<int> poly = std::move(pending.back());
+    pending.pop_back();
+    const int m = static_cast<int>(poly.size());
+    if (m == 4) {
+      base.quads.push_back({poly[0], poly[1], poly[2], poly[3]});
+      enumerate(std::move(pending), std::move(base), allow_chord_point);
+      return;
+    }
+    // Chords without interior nodes: both sides even, each at least 4 nodes.
+    for (int i = 0; i < m; ++i) {
+      for (int j = i + 3; j <= i + m - 3 && j < m; j += 2) {
+        std::vector<int> a(poly.begin() + i, poly.begin() + j + 1);
+        std::vector<int> b(poly.begin() + j, poly.end());
+        b.insert(b.end(), poly.begin(), poly.begin() + i + 1);
+        auto next = pending;
+        next.push_back(std::move(a));
+        next.push_back(std::move(b));
+        enumerate(std::move(next), base, allow_chord_point);
+      }
+    }
+    // Fans: one interior point joined to every other node.
+    if (m == 6 || m == 8) {
+      Vec2 c(0, 0);
+      for (const int v : poly) c += at(base, v);
+      c /= m;
+      for (int parity = 0; parity < 2; ++parity) {
+        Tiling t = base;
+        const int id = static_cast<int>(n_ + t.extra.size());
+        t.extra.push_back(c);
+        for (int k = parity; k < m; k += 2) t.quads.push_back({poly[(k + m - 1) % m], poly[k], poly[(k + 1) % m], id});
+        enumerate(pending, std::move(t), allow_chord_point);
+      }
+    }
+    // Chords with one interior node splitting 8 into 6 + 6.
+    if (m == 8 && allow_chord_point) {
+      for (int i = 0; i < 4; ++i) {
+        const int j = i + 4;
+        Tiling t = base;
+        const int id = static_cast<int>(n_ + t.extra.size());
+        t.extra.push_back(0.5 * (at(base, poly[i]) + at(base, poly[j])));
+        std::vector<int> a(poly.begin() + i, poly.begin() + j + 1);
+        a.push_back(id);
+        std::vector<int> b(poly.begin() + j, poly.end());
+        b.insert(b.end(), poly.begin(), poly.begin() + i + 1);
+        b.push_back(id);
+        auto next = pending;
+        next.push_back(a);
+        next.push_back(b);
+        enumerate(std::move(next), std::move(t), false);
+      }
+    }
+  }
+
+  /// Optimises the interior points of every tiling and returns the best valid one.
+  const Tiling* best(double polygon_area, double& best_min) {
+    const Tiling* winner = nullptr;
+    double best_score = -1e300;
+    best_min = -1;
+    for (Tiling& t : tilings_) {
+      for (int sweep = 0; sweep < 4 && !t.extra.empty(); ++sweep)
+        for (std::size_t e = 0; e < t.extra.size(); ++e) optimize(t, static_cast<int>(n_ + e));
+      double area = 0, worst = 1, total = 0;
+      for (const auto& q : t.quads) {
+        const double sj = scaled_jacobian(at(t, q[0]), at(t, q[1]), at(t, q[2]), at(t, q[3]));
+        worst = std::min(worst, sj);
+        total += sj;
+        area += quad_area(at(t, q[0]), at(t, q[1]), at(t, q[2]), at(t, q[3]));
+      }
+      if (worst <= 0.02 || std::abs(area - polygon_area) > 1e-9 * std::abs(polygon_area) + 1e-300) continue;
+      // Fewer interior points (fewer singular vertices) at equal quality.
+      const double score = worst + 0.5 * total / static_cast<double>(t.quads.size()) - 0.02 * t.extra.size();
+      if (score > best_score) {
+        best_score = score;
+        best_min = worst;
+        winner = &t;
+      }
+    }
+    return winner;
+  }
+
+  const Vec2& at(const Tiling& t, int ref) const {
+    return ref < static_cast<int>(n_) ? boundary_[ref] : t.extra[ref - n_];
+  }
+
+ private:
+  double quality_around(const Tiling& t, int ref, const Vec2& p) const {
+    double worst = 1;
+    for (const auto& q : t.quads) {
+      std::array<Vec2, 4> c;
+      bool has = false;
+      for (int j = 0; j < 4; ++j) {
+        if (q[j] == ref) {
+          c[j] = p;
+          has = true;
+        } else {
+          c[j] = at(t, q[j]);
+        }
+      }
+      if (has) worst = std::min(worst, scaled_jacobian(c[0], c[1], c[2], c[3]));
+    }
+    return worst;
+  }
+  void optimize(Tiling& t, int ref) {
+    Vec2& p = t.extra[ref - n_];
+    // Start from the mean of the ideal parallelogram points of the quads around it.
+    Vec2 ideal(0, 0);
+    int count = 0;
+    double len = 0;
+    for (const auto& q : t.quads) {
+      for (int j = 0; j < 4; ++j) {
+        if (q[j] != ref) continue;
+        const Vec2 a = at(t, q[(j + 1) % 4]), b = at(t, q[(j + 2) % 4]), c = at(t, q[(j + 3) % 4]);
+        ideal += a + c - b;
+        len += (a - c).norm();
+        ++count;
+      }
+    }
+    if (count == 0) return;
+    ideal /= count;
+    double now = quality_around(t, ref, p);
+    const double cand = quality_around(t, ref, ideal);
+    if (cand > now) {
+      p = ideal;
+      now = cand;
+    }
+    double step = 0.1 * len / count;
+    for (int it = 0; it < 12; ++it) {
+      bool improved = false;
+      for (const Vec2& d : {Vec2(1, 0), Vec2(-1, 0), Vec2(0, 1), Vec2(0, -1)}) {
+        const double q = quality_around(t, ref, p + step * d);
+        if (q > now) {
+          now = q;
+          p += step * d;
+          improved = true;
+        }
+      }
+      if (!improved) step *= 0.5;
+    }
+  }
+
+  std::vector<Vec2> boundary_;
+  std::size_t n_;
+  std::vector<Tiling> tilings_;
+};
+
+bool inside_ring(const std::vector<Vec2>& ring, const Vec2& p) {
+  bool in = false;
+  for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
+    const Vec2 &a = ring[i], &b = ring[j];
+    if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x())
+      in = !in;
+  }
+  return in;
+}
+
+}  // namespace
+
+bool Paver::contains_open_hole(Index loop) const {
+  std::vector<Vec2> ring;
+  for (Index l = 0; l < loops_.size(); ++l) {
+    if (l == loop || !loops_[l].alive || loops_[l].area >= 0) continue;
+    if (ring.empty())
+      for (const Index v : loop_nodes(loop)) ring.push_back(pos(v));
+    if (inside_ring(ring, pos(loops_[l].head))) return true;
+  }
+  return false;
+}
+
+bool Paver::close_with_template(Index loop) {
+  const std::vector<Index> nodes = loop_nodes(loop);
+  const std::size_t n = nodes.size();
+  if (n != 4 && n != 6 && n != 8) return false;
+  std::vector<Vec2> boundary(n);
+  std::vector<Index> pts(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    boundary[i] = pos(nodes[i]);
+    pts[i] = node_point_[nodes[i]];
+  }
+  {
+    std::vector<Index> sorted = pts;
+    std::sort(sorted.begin(), sorted.end());
+    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return false;
+  }
+  TemplateSearch search(boundary);
+  std::vector<int> poly(n);
+  for (std::size_t i = 0; i < n; ++i) poly[i] = static_cast<int>(i);
+  search.enumerate({poly}, {}, true);
+  double worst = 0;
+  const Tiling* t = search.best(loops_[loop].area, worst);
+  if (t == nullptr) return false;
+  std::vector<Index> extra(t->extra.size());
+  for (std::size_t e = 0; e < extra.size(); ++e) extra[e] = mesh_.add_point(t->extra[e]);
+  for (const auto& q : t->quads) {
+    std::array<Index, 4> mq{};
+    for (int j = 0; j < 4; ++j) mq[j] = q[j] < static_cast<int>(n) ? pts[q[j]] : extra[q[j] - n];
+    emit_quad(mq);
+  }
+  for (const Index v : nodes) kill_node(v);
+  for (const Index e : extra) released_.push_back(e);
+  loops_[loop].alive = false;
+  loops_[loop].size = 0;
+  ++stats_.templates;
+  return true;
+}
+
+void Paver::fallback(Index loop) {
+  // The region: this loop and the open holes inside it.
+  std::vector<Index> loop_ids{loop};
+  {
+    std::vector<Vec2> ring;
+    for (const Index v : loop_nodes(loop)) ring.push_back(pos(v));
+    for (Index l = 0; l < loops_.size(); ++l)
+      if (l != loop && loops_[l].alive && loops_[l].area < 0 && inside_ring(ring, pos(loops_[l].head)))
+        loop_ids.push_back(l);
+  }
+  Polygon2 region;
+  std::vector<Index> point_of;  // polygon point -> mesh point
+  for (const Index l : loop_ids) {
+    std::vector<Vec2> ring;
+    for (const Index v : loop_nodes(l)) {
+      ring.push_back(pos(v));
+      point_of.push_back(node_point_[v]);
+    }
+    region.add_ring(ring);
+  }
+  const std::string where = "paving: a front loop of " + std::to_string(loops_[loop].size) + " nodes near (" +
+                            std::to_string(pos(loops_[loop].head).x()) + ", " +
+                            std::to_string(pos(loops_[loop].head).y()) + ")";
+  RegionTriangulation tri;
+  std::vector<Index> mate;
+  bool done = false;
+  for (const double factor : {1.0, 0.75, 1.5, 0.0}) {
+    try {
+      tri = triangulate_region(region, {.steiner_spacing = factor * size_});
+    } catch (const Error& e) {
+      throw Error(where + " could not be closed: its fallback triangulation failed (" + e.what() + ")");
+    }
+    if (tri.boundary_edges.size() != region.points.size()) continue;
+    const std::size_t t = tri.triangles.size();
+    if (t % 2 != 0) continue;
+    // Dual graph: triangles sharing an edge that is not on the loop.
+    std::map<std::pair<Index, Index>, Index> edge_owner;
+    boost::adjacency_list<boost::vecS, boost::vecS, boost::undirectedS> graph(t);
+    for (Index f = 0; f < t; ++f) {
+      for (int j = 0; j < 3; ++j) {
+        Index a = tri.triangles[f][j], b = tri.triangles[f][(j + 1) % 3];
+        if (a > b) std::swap(a, b);
+        const auto [it, fresh] = edge_owner.emplace(std::make_pair(a, b), f);
+        if (!fresh) boost::add_edge(it->second, f, graph);
+      }
+    }
+    std::vector<boost::graph_traits<decltype(graph)>::vertex_descriptor> match(t);
+    boost::edmonds_maximum_cardinality_matching(graph, &match[0]);
+    const auto null = boost::graph_traits<decltype(graph)>::null_vertex();
+    if (std::any_of(match.begin(), match.end(), [null](auto v) { return v == null; })) continue;
+    mate.assign(t, kInvalidIndex);
+    for (Index f = 0; f < t; ++f) mate[f] = static_cast<Index>(match[f]);
+    done = true;
+    break;
+  }
+  if (!done) throw Error(where + " could not be closed: no perfect matching of its triangulation");
+
+  std::vector<Index> mesh_id(tri.points.size());
+  for (std::size_t i = 0; i < tri.points.size(); ++i) {
+    if (i < point_of.size()) {
+      mesh_id[i] = point_of[i];
+    } else {
+      mesh_id[i] = mesh_.add_point(tri.points[i]);
+      released_.push_back(mesh_id[i]);
+    }
+  }
+  for (Index f = 0; f < tri.triangles.size(); ++f) {
+    const Index g = mate[f];
+    if (g < f) continue;
+    const auto& t1 = tri.triangles[f];
+    const auto& t2 = tri.triangles[g];
+    // t1 = (x, y, z) with the shared edge x -> y; t2 holds y -> x and its third node w.
+    for (int j = 0; j < 3; ++j) {
+      const Index x = t1[j], y = t1[(j + 1) % 3], z = t1[(j + 2) % 3];
+      for (int k = 0; k < 3; ++k) {
+        if (t2[k] == y && t2[(k + 1) % 3] == x) {
+          const Index w = t2[(k + 2) % 3];
+          emit_quad({mesh_id[x], mesh_id[w], mesh_id[y], mesh_id[z]});
+        }
+      }
+    }
+  }
+  for (const Index l : loop_ids) {
+    for (const Index v : loop_nodes(l)) kill_node(v);
+    loops_[l].alive = false;
+    loops_[l].size = 0;
+  }
+  ++stats_.fallback_loops;
+}
+
+}  // namespace structmesh::paving

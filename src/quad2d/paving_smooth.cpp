@@ -1,0 +1,116 @@
+// Smoothing of the paving mesher: after every row the points that just left the
+// front, at the end all interior points; then a local optimisation of the worst
+// quads. No move is accepted that makes a quad worse than the limit, so smoothing
+// never inverts a quad (boundary points never move).
+#include "quad2d/paving.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace structmesh::paving {
+
+double Paver::smooth_point(Index p) {
+  if (p < mesh_.fixed_count || mesh_.first_record[p] == kInvalidIndex) return 0;
+  if (p < point_fronts_.size() && point_fronts_[p] != 0) return 0;
+  // Isoparametric average: each quad proposes the point completing its parallelogram.
+  Vec2 target(0, 0);
+  int count = 0;
+  mesh_.for_each_quad(p, [&](Index q) {
+    const auto& v = mesh_.quads[q];
+    for (int j = 0; j < 4; ++j) {
+      if (v[j] != p) continue;
+      target += mesh_.points[v[(j + 1) % 4]] + mesh_.points[v[(j + 3) % 4]] - mesh_.points[v[(j + 2) % 4]];
+      ++count;
+    }
+  });
+  if (count == 0) return 0;
+  target /= count;
+  const Vec2 now = mesh_.points[p];
+  const double before = mesh_.min_quality_around(p, now);
+  const double floor = std::min(before, 0.5);
+  for (const double f : {1.0, 0.5}) {
+    const Vec2 to = now + f * (target - now);
+    const double after = mesh_.min_quality_around(p, to);
+    if (after > 0 && after >= floor) {
+      mesh_.points[p] = to;
+      return (to - now).norm();
+    }
+  }
+  return 0;
+}
+
+void Paver::smooth_points(std::span<const Index> pts, int sweeps) {
+  for (int s = 0; s < sweeps; ++s)
+    for (const Index p : pts) smooth_point(p);
+}
+
+bool Paver::optimize_point(Index p) {
+  if (p < mesh_.fixed_count || mesh_.first_record[p] == kInvalidIndex) return false;
+  Vec2 at = mesh_.points[p];
+  double now = mesh_.min_quality_around(p, at);
+  double len = 0;
+  int count = 0;
+  mesh_.for_each_quad(p, [&](Index q) {
+    const auto& v = mesh_.quads[q];
+    for (int j = 0; j < 4; ++j)
+      if (v[j] == p) {
+        len += (mesh_.points[v[(j + 1) % 4]] - at).norm();
+        ++count;
+      }
+  });
+  if (count == 0) return false;
+  double step = 0.15 * len / count;
+  bool improved_any = false;
+  static constexpr double kDiag = 0.70710678118654752;
+  for (int it = 0; it < 16; ++it) {
+    bool improved = false;
+    for (const Vec2& d : {Vec2(1, 0), Vec2(-1, 0), Vec2(0, 1), Vec2(0, -1), Vec2(kDiag, kDiag), Vec2(-kDiag, -kDiag),
+                          Vec2(kDiag, -kDiag), Vec2(-kDiag, kDiag)}) {
+      const Vec2 to = at + step * d;
+      const double q = mesh_.min_quality_around(p, to);
+      if (q > now + 1e-12) {
+        now = q;
+        at = to;
+        improved = true;
+      }
+    }
+    if (!improved) step *= 0.5;
+    improved_any |= improved;
+  }
+  mesh_.points[p] = at;
+  return improved_any;
+}
+
+void Paver::final_smoothing() {
+  const auto total = static_cast<Index>(mesh_.points.size());
+  std::vector<std::uint8_t> active(total, 0), next(total, 0);
+  for (Index p = mesh_.fixed_count; p < total; ++p) active[p] = 1;
+  const double still = 1e-4 * size_;
+  for (int sweep = 0; sweep < options_.final_smoothing_iterations; ++sweep) {
+    bool any = false;
+    std::fill(next.begin(), next.end(), 0);
+    for (Index p = mesh_.fixed_count; p < total; ++p) {
+      if (!active[p]) continue;
+      if (smooth_point(p) > still) {
+        any = true;
+        mesh_.for_each_quad(p, [&](Index q) {
+          for (const Index v : mesh_.quads[q]) next[v] = 1;
+        });
+      }
+    }
+    active.swap(next);
+    if (!any) break;
+  }
+  // Local optimisation of the worst quads.
+  for (int pass = 0; pass < 3; ++pass) {
+    bool any = false;
+    for (const auto& q : mesh_.quads) {
+      const auto& P = mesh_.points;
+      if (scaled_jacobian(P[q[0]], P[q[1]], P[q[2]], P[q[3]]) >= 0.8) continue;
+      for (const Index v : q) any |= optimize_point(v);
+    }
+    if (!any) break;
+  }
+}
+
+}  // namespace structmesh::paving
