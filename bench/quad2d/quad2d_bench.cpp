@@ -45,15 +45,6 @@ double total_seconds(const Quad2dReport& r) {
   return 0;
 }
 
-double perimeter(const Polygon2& region) {
-  double length = 0;
-  for (std::size_t r = 0; r < region.ring_count(); ++r) {
-    const auto ring = region.ring(r);
-    for (std::size_t i = 0; i < ring.size(); ++i) length += (ring[(i + 1) % ring.size()] - ring[i]).norm();
-  }
-  return length;
-}
-
 struct Input {
   std::string name;
   Polygon2 region;
