@@ -119,8 +119,7 @@ QuadPixels quad_pixels(const QuadMesh& mesh, const ToPixel& t, Index q) {
 // The rows [first, last] of `clip` a quad may touch (its pixel-square rows), or
 // false when it lies outside the clip (or has non-finite coordinates).
 bool quad_rows(const QuadPixels& p, const PixelRect& clip, int& first, int& last) {
-  if (!(p.min_x < clip.x1 + 1.0 && p.max_x >= clip.x0 && p.min_y < clip.y1 + 1.0 && p.max_y >= clip.y0))
-    return false;
+  if (!(p.min_x < clip.x1 + 1.0 && p.max_x >= clip.x0 && p.min_y < clip.y1 + 1.0 && p.max_y >= clip.y0)) return false;
   first = std::max(clip.y0, static_cast<int>(std::floor(std::max(p.min_y, -1.0))));
   last = std::min(clip.y1, static_cast<int>(std::floor(std::min(p.max_y, clip.y1 + 1.0))));
   return first <= last;
@@ -237,8 +236,8 @@ const char* glyph_bits(char c) {
   return glyph_bits('?');
 }
 
-constexpr int kTextScale = 2;                       // font pixels per glyph bit
-constexpr int kGlyphAdvance = 4 * kTextScale;       // 3 columns + 1 of spacing
+constexpr int kTextScale = 2;                  // font pixels per glyph bit
+constexpr int kGlyphAdvance = 4 * kTextScale;  // 3 columns + 1 of spacing
 constexpr int kTextHeight = 5 * kTextScale;
 
 int text_width(std::string_view text) { return static_cast<int>(text.size()) * kGlyphAdvance - kTextScale; }
@@ -250,8 +249,7 @@ void draw_text(Image& image, int x, int y, std::string_view text, const Rgb& c) 
       for (int col = 0; col < 3; ++col)
         if (bits[r * 3 + col] == '1')
           for (int dy = 0; dy < kTextScale; ++dy)
-            for (int dx = 0; dx < kTextScale; ++dx)
-              image.set(x + col * kTextScale + dx, y + r * kTextScale + dy, c);
+            for (int dx = 0; dx < kTextScale; ++dx) image.set(x + col * kTextScale + dx, y + r * kTextScale + dy, c);
     x += kGlyphAdvance;
   }
 }
@@ -389,7 +387,8 @@ void draw_band(Image& image, const QuadMesh& mesh, std::span<const double> value
     const QuadPixels p = quad_pixels(mesh, t, q);
     const double twice_area = (p.x[2] - p.x[0]) * (p.y[3] - p.y[1]) - (p.x[3] - p.x[1]) * (p.y[2] - p.y[0]);
     if (!(0.5 * std::abs(twice_area) >= kEdgeMinSizePx * kEdgeMinSizePx)) continue;
-    for (int e = 0; e < 4; ++e) draw_segment(image, p.x[e], p.y[e], p.x[(e + 1) & 3], p.y[(e + 1) & 3], kEdgeColor, band);
+    for (int e = 0; e < 4; ++e)
+      draw_segment(image, p.x[e], p.y[e], p.x[(e + 1) & 3], p.y[(e + 1) & 3], kEdgeColor, band);
   }
 }
 
@@ -449,8 +448,8 @@ Image quad_mesh_image(const QuadMesh& mesh, std::span<const double> cell_values,
     });
   }
   if (!options.title.empty())
-    draw_text(image, std::max(kMarginPx, (image.width - text_width(options.title)) / 2),
-              (kTitleRows - kTextHeight) / 2, options.title, kTextColor);
+    draw_text(image, std::max(kMarginPx, (image.width - text_width(options.title)) / 2), (kTitleRows - kTextHeight) / 2,
+              options.title, kTextColor);
   if (options.legend) draw_legend(image, options, palette, map_top + map_rows);
   return image;
 }
