@@ -136,11 +136,11 @@ inline void put(Image& image, int x, int y, const Rgb& c) {
 // half-open edge spans, so a pixel centre on an edge shared by two quads belongs to
 // exactly one of them and convex, concave and bow-tie quads are all handled. Scans
 // rows [scan_first, scan_last] and writes those within [write_first, write_last]
-// and the clip's columns; returns the number of pixel centres covered in the
+// and the clip's columns; returns whether the quad covers a pixel centre in the
 // scanned rows (inside or outside the clip).
-std::size_t fill_quad(Image& image, const QuadPixels& p, const Rgb& c, const PixelRect& clip, int scan_first,
-                      int scan_last, int write_first, int write_last) {
-  std::size_t covered = 0;
+bool fill_quad(Image& image, const QuadPixels& p, const Rgb& c, const PixelRect& clip, int scan_first, int scan_last,
+               int write_first, int write_last) {
+  bool covered = false;
   const double first_y = std::max(static_cast<double>(scan_first), std::ceil(p.min_y - 0.5));
   const double last_y = std::min(static_cast<double>(scan_last), std::ceil(p.max_y - 0.5) - 1);
   for (int y = static_cast<int>(first_y); y <= static_cast<int>(last_y); ++y) {
@@ -157,7 +157,7 @@ std::size_t fill_quad(Image& image, const QuadPixels& p, const Rgb& c, const Pix
     for (int k = 0; k + 1 < n; k += 2) {
       const double a = std::ceil(xs[k] - 0.5), b = std::ceil(xs[k + 1] - 0.5) - 1;
       if (b < a) continue;
-      covered += static_cast<std::size_t>(b - a + 1);
+      covered = true;
       if (!write) continue;
       const int x0 = static_cast<int>(std::max(a, static_cast<double>(clip.x0)));
       const int x1 = static_cast<int>(std::min(b, static_cast<double>(clip.x1)));
@@ -328,18 +328,23 @@ BandLists bucket_by_band(const QuadMesh& mesh, const ToPixel& t, const PixelRect
   const std::size_t chunk_count = (quad_count + kChunkQuads - 1) / kChunkQuads;
   const std::size_t bands = static_cast<std::size_t>(band_count);
   std::vector<std::uint64_t> offsets(chunk_count * bands, 0);
-  const auto for_each_touch = [&](std::size_t chunk, auto&& visit) {
-    const std::size_t end = std::min(quad_count, (chunk + 1) * kChunkQuads);
-    for (std::size_t q = chunk * kChunkQuads; q < end; ++q) {
-      int first = 0, last = 0;
-      if (!quad_rows(quad_pixels(mesh, t, static_cast<Index>(q)), clip, first, last)) continue;
-      for (int b = (first - clip.y0) / kBandRows; b <= (last - clip.y0) / kBandRows; ++b)
-        visit(static_cast<std::size_t>(b), static_cast<Index>(q));
-    }
-  };
+  // Pass 1: each quad's band range (first, last; first > last when culled) and the
+  // counts per chunk and band. Bands fit in 16 bits: at most 4 * 65536 rows / 16.
+  std::vector<std::array<std::uint16_t, 2>> band_range(quad_count);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunk_count, 1), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t chunk = r.begin(); chunk != r.end(); ++chunk)
-      for_each_touch(chunk, [&](std::size_t b, Index) { ++offsets[chunk * bands + b]; });
+    for (std::size_t chunk = r.begin(); chunk != r.end(); ++chunk) {
+      const std::size_t end = std::min(quad_count, (chunk + 1) * kChunkQuads);
+      for (std::size_t q = chunk * kChunkQuads; q < end; ++q) {
+        int first = 0, last = 0;
+        if (!quad_rows(quad_pixels(mesh, t, static_cast<Index>(q)), clip, first, last)) {
+          band_range[q] = {1, 0};
+          continue;
+        }
+        band_range[q] = {static_cast<std::uint16_t>((first - clip.y0) / kBandRows),
+                         static_cast<std::uint16_t>((last - clip.y0) / kBandRows)};
+        for (std::size_t b = band_range[q][0]; b <= band_range[q][1]; ++b) ++offsets[chunk * bands + b];
+      }
+    }
   });
   BandLists lists;
   lists.band_start.assign(bands + 1, 0);
@@ -356,7 +361,9 @@ BandLists bucket_by_band(const QuadMesh& mesh, const ToPixel& t, const PixelRect
   lists.quads.resize(total);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunk_count, 1), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t chunk = r.begin(); chunk != r.end(); ++chunk)
-      for_each_touch(chunk, [&](std::size_t b, Index q) { lists.quads[offsets[chunk * bands + b]++] = q; });
+      for (std::size_t q = chunk * kChunkQuads; q < std::min(quad_count, (chunk + 1) * kChunkQuads); ++q)
+        for (std::size_t b = band_range[q][0]; b <= band_range[q][1]; ++b)
+          lists.quads[offsets[chunk * bands + b]++] = static_cast<Index>(q);
   });
   return lists;
 }
@@ -372,7 +379,7 @@ void draw_band(Image& image, const QuadMesh& mesh, std::span<const double> value
     // the pixel under its centre (vertex average) instead.
     if (p.max_x - p.min_x < 2 && p.max_y - p.min_y < 2) {
       const int first = static_cast<int>(std::floor(p.min_y)), last = static_cast<int>(std::floor(p.max_y));
-      if (fill_quad(image, p, c, clip, first, last, row_first, row_last) > 0) continue;
+      if (fill_quad(image, p, c, clip, first, last, row_first, row_last)) continue;
       const double cx = std::floor(0.25 * (p.x[0] + p.x[1] + p.x[2] + p.x[3]));
       const double cy = std::floor(0.25 * (p.y[0] + p.y[1] + p.y[2] + p.y[3]));
       if (cx >= clip.x0 && cx <= clip.x1 && cy >= row_first && cy <= row_last)
