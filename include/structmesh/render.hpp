@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -52,5 +53,35 @@ std::string encode_png(const Image& image);
 
 /// A PNG picture of regions: filled, outlined, holes visible.
 std::string region_png(const std::vector<Polygon2>& polygons, int width_px = 1200);
+
+struct QuadPictureOptions {
+  int width_px = 1600;  // picture width; height follows the view's aspect ratio (at most 4x the width)
+  BoundingBox2 view;    // empty = the whole mesh; else only this window (zoom)
+  /// Colour map range: viridis from value_min (dark violet) to value_max (yellow),
+  /// values outside are clamped. value_min < value_max.
+  double value_min = 0, value_max = 1;
+  /// Values <= 0 in a distinct red ("inverted": a scaled Jacobian <= 0); turn off for
+  /// values where <= 0 means nothing special. NaN values are drawn light grey.
+  bool mark_inverted = true;
+  bool edges = true;   // draw the edges of quads at least ~5 px wide (sqrt of pixel area >= 5)
+  bool legend = true;  // a colour bar with ticks and labels below the picture
+  std::string title;   // optional caption above the picture (ASCII; lower case drawn as upper case)
+};
+
+/// A picture of a planar quad mesh (x, y of its points) with quad i filled in the
+/// colour of cell_values[i]. Every pixel whose centre lies in a quad takes its
+/// colour (later quads win on shared pixels); a quad that covers no pixel centre
+/// paints the pixel under its centre, so sub-pixel quads stay visible. Only quads
+/// in the view are drawn. The bytes do not depend on the thread count.
+/// InputError unless cell_values has one value per quad, value_min < value_max and
+/// 16 <= width_px <= 65536.
+Image quad_mesh_image(const QuadMesh& mesh, std::span<const double> cell_values,
+                      const QuadPictureOptions& options = {});
+/// quad_mesh_image encoded as PNG.
+std::string quad_mesh_png(const QuadMesh& mesh, std::span<const double> cell_values,
+                          const QuadPictureOptions& options = {});
+/// Parses "--view x0,y0,x1,y1" (the window's lower-left and upper-right corners)
+/// into a box; InputError on malformed text, non-finite numbers or x0 >= x1, y0 >= y1.
+BoundingBox2 parse_view(const std::string& text);
 
 }  // namespace structmesh
