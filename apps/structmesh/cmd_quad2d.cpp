@@ -5,6 +5,7 @@
 #include "structmesh/error.hpp"
 #include "structmesh/io.hpp"
 #include "structmesh/quad2d.hpp"
+#include "structmesh/render.hpp"
 
 #include <oneapi/tbb/task_arena.h>
 
@@ -26,19 +27,22 @@ struct Quad2dSettings {
   Quad2dOptions options;
   std::vector<std::string> outputs;
   bool lonlat_output = false;
+  std::string view;
+  int picture_width = 1600;
 };
 
 void check_outputs(const std::vector<std::string>& outputs) {
   for (const std::string& output : outputs) {
     const FileFormat format = format_from_path(output);
     if (format != FileFormat::Vtu && format != FileFormat::Pvtu && format != FileFormat::Msh &&
-        format != FileFormat::Medit)
-      throw InputError(output + ": quad2d writes .vtu, .pvtu, .msh or .mesh");
+        format != FileFormat::Medit && format != FileFormat::Png)
+      throw InputError(output + ": quad2d writes .vtu, .pvtu, .msh, .mesh or .png");
   }
 }
 
 void write_outputs(const std::vector<std::string>& outputs, const QuadMesh& mesh,
-                   const std::vector<std::int32_t>& part_of_quad, const std::vector<double>& scaled_jacobian) {
+                   const std::vector<std::int32_t>& part_of_quad, const std::vector<double>& scaled_jacobian,
+                   const QuadPictureOptions& picture) {
   MeshBundle bundle;
   bundle.points = mesh.points;
   bundle.quads = mesh.quads;
@@ -47,7 +51,9 @@ void write_outputs(const std::vector<std::string>& outputs, const QuadMesh& mesh
   data.cell_data.push_back({.name = "part", .f64 = {}, .i32 = part_of_quad});
   data.cell_data.push_back({.name = "scaled_jacobian", .f64 = scaled_jacobian, .i32 = {}});
   for (const std::string& output : outputs) {
-    if (format_from_path(output) == FileFormat::Pvtu) {
+    if (format_from_path(output) == FileFormat::Png) {
+      write_file_atomic(output, quad_mesh_png(mesh, scaled_jacobian, picture));
+    } else if (format_from_path(output) == FileFormat::Pvtu) {
       // One process: a single piece beside the .pvtu (MPI runs write one per rank).
       const std::filesystem::path path(output);
       const std::string piece = path.stem().string() + "_0.vtu";
@@ -129,10 +135,19 @@ Action add_quad2d_command(CLI::App& command, const GlobalOptions& global) {
   command.add_option("--polygon", settings->polygon, "Which polygon of a multi-polygon file: INDEX or largest");
   command.add_flag("--lonlat-output", settings->lonlat_output,
                    "Write lon/lat input back in degrees (default: the projected plane)");
-  command.add_option("-o,--output", settings->outputs, "Outputs: .vtu, .pvtu, .msh, .mesh (repeatable)");
+  command.add_option("-o,--output", settings->outputs,
+                     "Outputs: .vtu, .pvtu, .msh, .mesh, .png (coloured by scaled Jacobian) (repeatable)");
+  command.add_option("--view", settings->view, "Picture window x0,y0,x1,y1 (output coordinates; default: all)");
+  command.add_option("--picture-width", settings->picture_width, "Picture width in pixels")
+      ->capture_default_str()
+      ->check(CLI::Range(64, 20000));
 
   return [&global, settings]() {
     check_outputs(settings->outputs);
+    QuadPictureOptions picture;
+    picture.width_px = settings->picture_width;
+    if (!settings->view.empty()) picture.view = parse_view(settings->view);
+    picture.title = "scaled Jacobian";
     Quad2dOptions options = settings->options;
     options.size = settings->size;
     options.target_quads = settings->quads;
@@ -144,7 +159,7 @@ Action add_quad2d_command(CLI::App& command, const GlobalOptions& global) {
     Quad2dResult result = mesh_region_quads(region, options);
     const Quad2dReport& r = result.report;
     if (settings->lonlat_output) points_to_lonlat(region, result.merged.mesh.points);
-    write_outputs(settings->outputs, result.merged.mesh, result.merged.part_of_quad, result.scaled_jacobian);
+    write_outputs(settings->outputs, result.merged.mesh, result.merged.part_of_quad, result.scaled_jacobian, picture);
 
     if (!r.projection.empty()) say(global, "lon/lat input meshed in " + r.projection);
     double total = 0;
