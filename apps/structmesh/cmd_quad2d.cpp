@@ -2,6 +2,7 @@
 // parallel all-quad meshing of a planar region (dissertation ch. 3.3-3.4).
 // Parse, call mesh_region_quads, write, report.
 #include "cli.hpp"
+#include "quad2d_command.hpp"
 #include "structmesh/error.hpp"
 #include "structmesh/io.hpp"
 #include "structmesh/quad2d.hpp"
@@ -14,22 +15,6 @@
 #include <memory>
 
 namespace structmesh::cli {
-
-namespace {
-
-struct Quad2dSettings {
-  std::string source;
-  std::size_t segments = 0;
-  std::string polygon;
-  std::string method = "cvtgp";
-  double size = 0;
-  std::size_t quads = 0;
-  Quad2dOptions options;
-  std::vector<std::string> outputs;
-  bool lonlat_output = false;
-  std::string view;
-  int picture_width = 1600;
-};
 
 void check_outputs(const std::vector<std::string>& outputs) {
   for (const std::string& output : outputs) {
@@ -64,6 +49,8 @@ void write_outputs(const std::vector<std::string>& outputs, const QuadMesh& mesh
     }
   }
 }
+
+namespace {
 
 nlohmann::json report_json(const Quad2dResult& result, const Quad2dSettings& settings) {
   const Quad2dReport& r = result.report;
@@ -137,6 +124,8 @@ Action add_quad2d_command(CLI::App& command, const GlobalOptions& global) {
                    "Write lon/lat input back in degrees (default: the projected plane)");
   command.add_option("-o,--output", settings->outputs,
                      "Outputs: .vtu, .pvtu, .msh, .mesh, .png (coloured by scaled Jacobian) (repeatable)");
+  command.add_option("--merged", settings->merged_outputs,
+                     "Under mpirun: also gather the whole mesh on rank 0 and write it here (repeatable)");
   command.add_option("--view", settings->view, "Picture window x0,y0,x1,y1 (output coordinates; default: all)");
   command.add_option("--picture-width", settings->picture_width, "Picture width in pixels")
       ->capture_default_str()
@@ -156,6 +145,7 @@ Action add_quad2d_command(CLI::App& command, const GlobalOptions& global) {
     const Polygon2 region = load_region(settings->source, settings->segments, settings->polygon);
     if (settings->lonlat_output && region.coordinates != Polygon2::Coordinates::LonLat)
       throw InputError("--lonlat-output needs a lon/lat region; " + settings->source + " is planar");
+    if (launched_by_mpirun()) return run_quad2d_mpi(*settings, options, region, picture, global);
     Quad2dResult result = mesh_region_quads(region, options);
     const Quad2dReport& r = result.report;
     if (settings->lonlat_output) points_to_lonlat(region, result.merged.mesh.points);
