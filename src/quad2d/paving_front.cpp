@@ -103,8 +103,12 @@ void EdgeGrid::init(const BoundingBox2& box, double cell, std::size_t expected_p
 }
 
 void EdgeGrid::cell_range(const Vec2& lo, const Vec2& hi, int& x0, int& y0, int& x1, int& y1) const {
-  auto cx = [&](double v) { return std::clamp(static_cast<int>(std::floor((v - origin_.x()) * inv_cell_)), 0, nx_ - 1); };
-  auto cy = [&](double v) { return std::clamp(static_cast<int>(std::floor((v - origin_.y()) * inv_cell_)), 0, ny_ - 1); };
+  auto cx = [&](double v) {
+    return std::clamp(static_cast<int>(std::floor((v - origin_.x()) * inv_cell_)), 0, nx_ - 1);
+  };
+  auto cy = [&](double v) {
+    return std::clamp(static_cast<int>(std::floor((v - origin_.y()) * inv_cell_)), 0, ny_ - 1);
+  };
   x0 = cx(lo.x());
   x1 = cx(hi.x());
   y0 = cy(lo.y());

@@ -65,7 +65,7 @@ bool Paver::optimize_point(Index p) {
   for (int it = 0; it < 16; ++it) {
     bool improved = false;
     for (const Vec2& d : {Vec2(1, 0), Vec2(-1, 0), Vec2(0, 1), Vec2(0, -1), Vec2(kDiag, kDiag), Vec2(-kDiag, -kDiag),
-                         Vec2(kDiag, -kDiag), Vec2(-kDiag, kDiag)}) {
+                          Vec2(kDiag, -kDiag), Vec2(-kDiag, kDiag)}) {
       const Vec2 to = at + step * d;
       const double q = mesh_.min_quality_around(p, to);
       if (q > now + 1e-12) {

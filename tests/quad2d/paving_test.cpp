@@ -55,7 +55,8 @@ Measured check_paved(const Polygon2& poly, const PavedPart& part) {
     m.min = std::min(m.min, sj);
     m.avg += sj;
     const auto& P = part.points;
-    total += 0.5 * ((P[q[2]] - P[q[0]]).x() * (P[q[3]] - P[q[1]]).y() - (P[q[2]] - P[q[0]]).y() * (P[q[3]] - P[q[1]]).x());
+    total +=
+        0.5 * ((P[q[2]] - P[q[0]]).x() * (P[q[3]] - P[q[1]]).y() - (P[q[2]] - P[q[0]]).y() * (P[q[3]] - P[q[1]]).x());
   }
   m.quads = part.quads.size();
   if (m.quads > 0) m.avg /= static_cast<double>(m.quads);
@@ -93,10 +94,11 @@ Measured check_paved(const Polygon2& poly, const PavedPart& part) {
 }
 
 void report(const char* name, const Measured& m, const PavedPart& part) {
-  std::printf("[paving] %-22s quads %7zu  SJ avg %.4f min %.4f  singular %4zu  rows %zu seams %zu splits %zu "
-              "templates %zu fallback %zu\n",
-              name, m.quads, m.avg, m.min, m.singular, part.stats.rows, part.stats.seams, part.stats.splits,
-              part.stats.templates, part.stats.fallback_loops);
+  std::printf(
+      "[paving] %-22s quads %7zu  SJ avg %.4f min %.4f  singular %4zu  rows %zu seams %zu splits %zu "
+      "templates %zu fallback %zu\n",
+      name, m.quads, m.avg, m.min, m.singular, part.stats.rows, part.stats.seams, part.stats.splits,
+      part.stats.templates, part.stats.fallback_loops);
 }
 
 std::vector<Vec2> rectangle(int nx, int ny, double h = 1.0) {
