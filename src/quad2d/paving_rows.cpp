@@ -392,6 +392,13 @@ bool Paver::apply_chord(Index a, Index b, int interior, bool join) {
     if (clearance(cp[t], 0.45 * spacing, std::array<Index, 2>{qa, qb}) < 0.45 * spacing) return false;
   }
 
+  // Never cut off a loop of 4 that is not a decent quad.
+  if (!join && interior == 0) {
+    for (const auto& [s, t] : {std::pair{a, b}, std::pair{b, a}}) {
+      const Index u = node_next_[s], v = node_next_[u];
+      if (node_next_[v] == t && scaled_jacobian(pos(s), pos(u), pos(v), pos(t)) < 0.2) return false;
+    }
+  }
   const Index la = node_loop_[a], lb = node_loop_[b];
   const Index na = node_next_[a], pbn = node_prev_[b];
   std::vector<Index> points(cp.size());
