@@ -81,7 +81,7 @@ bool Paver::step(Index loop) {
     released_.clear();
     return true;
   }
-  return false;
+  return clip_ear(loop);
 }
 
 PavedPart Paver::run() {

@@ -163,6 +163,7 @@ class Paver {
   // --- rows, seams and splits (paving_rows.cpp)
   bool row(Index loop);
   bool seams(Index loop);
+  bool clip_ear(Index loop);
   bool splits(Index loop);
   bool apply_chord(Index a, Index b, int interior, bool join);
   double local_size(Index node) const;

@@ -43,6 +43,19 @@ class TemplateSearch {
     pending.pop_back();
     const int m = static_cast<int>(poly.size());
     if (m == 4) {
+      const bool poor =
+          scaled_jacobian(at(base, poly[0]), at(base, poly[1]), at(base, poly[2]), at(base, poly[3])) < 0.3;
+      if (poor && allow_chord_point) {
+        // A badly shaped 4-loop: a ring of 4 quads around an inner quad.
+        Tiling t = base;
+        Vec2 c(0, 0);
+        for (const int v : poly) c += 0.25 * at(base, v);
+        const int id = static_cast<int>(n_ + t.extra.size());
+        for (const int v : poly) t.extra.push_back(0.5 * (at(base, v) + c));
+        for (int k = 0; k < 4; ++k) t.quads.push_back({poly[k], poly[(k + 1) % 4], id + (k + 1) % 4, id + k});
+        t.quads.push_back({id, id + 1, id + 2, id + 3});
+        enumerate(pending, std::move(t), allow_chord_point);
+      }
       base.quads.push_back({poly[0], poly[1], poly[2], poly[3]});
       enumerate(std::move(pending), std::move(base), allow_chord_point);
       return;

@@ -323,6 +323,15 @@ bool Paver::try_quad(const std::array<Slot, 4>& slots, double min_quality, doubl
     if (clearance(q[a], min_clearance, ignore) < min_clearance) return false;
   }
   if (point_inside(q, ignore)) return false;
+  // Never leave a loop of 4 that is not a decent quad.
+  if (loops_[loop].size + 4 - 2 * k == 4) {
+    std::array<Vec2, 4> rest;
+    int c = 0;
+    rest[c++] = q[r];
+    for (int t = 3; t > k; --t) rest[c++] = q[(r + t) % 4];
+    for (Index m = ek; c < 4; m = node_next_[m]) rest[c++] = pos(m);
+    if (scaled_jacobian(rest[0], rest[1], rest[2], rest[3]) < 0.2) return false;
+  }
 
   // Commit: new points, the quad, and the front e0 -> (new points reversed) -> ek.
   std::array<Index, 4> nodes = fn;

@@ -33,7 +33,7 @@ Vec2 rotate(const Vec2& v, double angle) {
 
 double Paver::local_size(Index node) const {
   const double l = 0.5 * ((pos(node_next_[node]) - pos(node)).norm() + (pos(node_prev_[node]) - pos(node)).norm());
-  return 0.7 * l + 0.3 * size_;
+  return 0.2 * l + 0.8 * size_;
 }
 
 double Paver::ray_gap(Index node, const Vec2& dir, double range) {
@@ -222,6 +222,24 @@ bool Paver::row(Index loop) {
     const Index r = find(k);
     planned_pos_[k] = sum[r] / weight[r];
   }
+  // Paved-boundary smoothing of the new layer: a side node's new point moves towards
+  // the mean of its neighbours' new points, which damps any zigzag of the front
+  // before the next layer copies it (Blacker & Stephenson §4).
+  {
+    std::vector<Vec2> smoothed(n);
+    for (int sweep = 0; sweep < 2; ++sweep) {
+      for (std::size_t i = 0; i < n; ++i) {
+        smoothed[i] = Vec2(0, 0);
+        if (type[i] != NodeType::Side || out_count[pv(i)] == 0 || out_count[nx(i)] == 0) continue;
+        const Index self = find(out_begin[i]);
+        const Vec2& left = planned_pos_[find(last_out(pv(i)))];
+        const Vec2& right = planned_pos_[find(first_out(nx(i)))];
+        smoothed[i] = 0.5 * planned_pos_[self] + 0.25 * (left + right);
+      }
+      for (std::size_t i = 0; i < n; ++i)
+        if (smoothed[i] != Vec2(0, 0)) planned_pos_[find(out_begin[i])] = smoothed[i];
+    }
+  }
   auto planned = [&](Index k) { return Slot{true, find(k)}; };
   auto existing = [&](std::size_t i) { return Slot{false, nodes[i]}; };
 
@@ -261,6 +279,48 @@ bool Paver::row(Index loop) {
   }
   if (added > 0) ++stats_.rows;
   return added > 0;
+}
+
+bool Paver::clip_ear(Index loop) {
+  // Cut the best-shaped quad off the loop: four consecutive front nodes, or three and
+  // the point completing their parallelogram. For loops where rows do not fit (narrow
+  // zigzag channels left where fronts met at an angle).
+  struct Ear {
+    double score;
+    std::size_t i;
+    bool closed;
+  };
+  const std::vector<Index> nodes = loop_nodes(loop);
+  const std::size_t n = nodes.size();
+  if (n < 6) return false;
+  std::vector<Ear> ears;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2 &a = pos(nodes[i]), &b = pos(nodes[(i + 1) % n]), &c = pos(nodes[(i + 2) % n]);
+    const Vec2& d = pos(nodes[(i + 3) % n]);
+    const double closed = scaled_jacobian(a, b, c, d);
+    if (closed > 0.05) ears.push_back({closed + 0.1, i, true});
+    if (interior_angle(nodes[(i + 1) % n]) < 0.9 * kPi) {
+      const double open = scaled_jacobian(a, b, c, a + c - b);
+      if (open > 0.05) ears.push_back({open, i, false});
+    }
+  }
+  std::sort(ears.begin(), ears.end(), [](const Ear& x, const Ear& y) {
+    return std::tie(y.score, x.i, x.closed) < std::tie(x.score, y.i, y.closed);
+  });
+  planned_pos_.clear();
+  planned_node_.clear();
+  for (const Ear& e : ears) {
+    const Slot a{false, nodes[e.i]}, b{false, nodes[(e.i + 1) % n]}, c{false, nodes[(e.i + 2) % n]};
+    const double d = local_size(b.id);
+    if (e.closed) {
+      if (try_quad({a, b, c, Slot{false, nodes[(e.i + 3) % n]}}, 0.05, d)) return true;
+    } else {
+      planned_pos_.assign(1, pos(a.id) + pos(c.id) - pos(b.id));
+      planned_node_.assign(1, kInvalidIndex);
+      if (try_quad({a, b, c, Slot{true, 0}}, 0.05, d)) return true;
+    }
+  }
+  return false;
 }
 
 bool Paver::seams(Index loop) {
@@ -332,6 +392,13 @@ bool Paver::apply_chord(Index a, Index b, int interior, bool join) {
     if (clearance(cp[t], 0.45 * spacing, std::array<Index, 2>{qa, qb}) < 0.45 * spacing) return false;
   }
 
+  // Never cut off a loop of 4 that is not a decent quad.
+  if (!join && interior == 0) {
+    for (const auto& [s, t] : {std::pair{a, b}, std::pair{b, a}}) {
+      const Index u = node_next_[s], v = node_next_[u];
+      if (node_next_[v] == t && scaled_jacobian(pos(s), pos(u), pos(v), pos(t)) < 0.2) return false;
+    }
+  }
   const Index la = node_loop_[a], lb = node_loop_[b];
   const Index na = node_next_[a], pbn = node_prev_[b];
   std::vector<Index> points(cp.size());
