@@ -108,8 +108,8 @@ Action add_quad2d_command(CLI::App& command, const GlobalOptions& global) {
                      "Parts (default: 1 below 20k quads, else 4 per thread and 1 per 250k quads)");
   command.add_option("--method", settings->method, "Partitioning: cvtgp (default), cvt, metis, madd or exact")
       ->check(CLI::IsMember({"cvtgp", "cvt", "metis", "madd", "exact"}));
-  command.add_option("--cells", o.partition.cells, "CVT cells / fine triangles of the partitioning")
-      ->capture_default_str();
+  command.add_option("--cells", o.partition.cells,
+                     "CVT cells / fine triangles of the partitioning (default: one per 100 quads, 256..4000)");
   command.add_option("--seed", o.partition.seed, "Seed of the partitioning")->capture_default_str();
   command.add_option("--relax-rings", o.relax.rings, "Rings around the separators that relaxation moves (§3.3.2)")
       ->capture_default_str()
@@ -131,13 +131,14 @@ Action add_quad2d_command(CLI::App& command, const GlobalOptions& global) {
       ->capture_default_str()
       ->check(CLI::Range(64, 20000));
 
-  return [&global, settings]() {
+  return [&command, &global, settings]() {
     check_outputs(settings->outputs);
     QuadPictureOptions picture;
     picture.width_px = settings->picture_width;
     if (!settings->view.empty()) picture.view = parse_view(settings->view);
     picture.title = "scaled Jacobian";
     Quad2dOptions options = settings->options;
+    options.auto_cells = command.count("--cells") == 0;
     options.size = settings->size;
     options.target_quads = settings->quads;
     options.partition.method = parse_method(settings->method);

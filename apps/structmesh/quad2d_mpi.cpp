@@ -447,8 +447,8 @@ int run_ranks(const MpiSession& mpi, const Quad2dSettings& settings, const Quad2
       MPI_Gather(&count, 1, MPI_INT, all_counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
       for (int r = 0; r < ranks; ++r) displs[r + 1] = displs[r] + (root ? all_counts[r] : 0);
       std::vector<T> all(root ? static_cast<std::size_t>(displs[ranks]) : 0);
-      MPI_Gatherv(mine_values.data(), count, mpi_type<T>(), all.data(), all_counts.data(), displs.data(),
-                  mpi_type<T>(), 0, MPI_COMM_WORLD);
+      MPI_Gatherv(mine_values.data(), count, mpi_type<T>(), all.data(), all_counts.data(), displs.data(), mpi_type<T>(),
+                  0, MPI_COMM_WORLD);
       return all;
     };
     const std::vector<std::uint32_t> all_ids = gather(my_ids, std::uint32_t{});
@@ -498,8 +498,8 @@ int run_ranks(const MpiSession& mpi, const Quad2dSettings& settings, const Quad2
     say(global, line);
     std::snprintf(line, sizeof line, "  scaled Jacobian avg/std/min  %.4f / %.4f / %.4f", mean, stddev, total_min);
     say(global, line);
-    std::snprintf(line, sizeof line, "  inverted %llu, singular vertices %llu, area %.8g (region %.8g)",
-                  total_inverted, total_singular, total_area, setup.partition.metrics.region_area);
+    std::snprintf(line, sizeof line, "  inverted %llu, singular vertices %llu, area %.8g (region %.8g)", total_inverted,
+                  total_singular, total_area, setup.partition.metrics.region_area);
     say(global, line);
     for (const std::string& output : settings.outputs) say(global, "wrote " + output);
     for (const std::string& output : settings.merged_outputs) say(global, "wrote " + output);

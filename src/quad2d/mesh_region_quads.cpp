@@ -87,6 +87,10 @@ Quad2dSetup setup_quad2d(const Polygon2& region, const Quad2dOptions& options, s
   if (expected_quads > 4.0e9) throw InputError("quad2d: --size gives more than 4e9 quads; choose a larger size");
   if (partition_options.parts == 0)
     partition_options.parts = default_part_count(static_cast<std::size_t>(expected_quads), processes);
+  if (options.auto_cells) {
+    const double wanted = std::clamp(expected_quads / 100.0, 256.0, 4000.0);
+    partition_options.cells = std::max(24 * partition_options.parts, static_cast<std::size_t>(wanted));
+  }
   if (options.progress)
     status("quad2d: element size " + std::to_string(size) + ", about " +
            std::to_string(static_cast<long long>(expected_quads)) + " quads in " +
