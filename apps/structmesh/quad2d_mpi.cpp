@@ -186,6 +186,60 @@ double peak_rss_mb() {
   return static_cast<double>(usage.ru_maxrss) / 1024.0;
 }
 
+// Rank 0's size, part areas, samples and part loops to every rank (the partition's
+// geometry and metrics stay on rank 0, which writes the report).
+void broadcast_setup(Quad2dSetup& setup, bool root) {
+  std::vector<double> reals;
+  std::vector<std::uint32_t> integers;
+  std::vector<std::uint8_t> flags;
+  if (root) {
+    const SampledPartition& sampled = setup.sampled;
+    reals.push_back(setup.size);
+    reals.insert(reals.end(), setup.partition.part_areas.begin(), setup.partition.part_areas.end());
+    for (const Vec2& p : sampled.points) reals.insert(reals.end(), {p.x(), p.y()});
+    integers.push_back(static_cast<std::uint32_t>(sampled.part_loops.size()));
+    integers.push_back(static_cast<std::uint32_t>(sampled.points.size()));
+    for (const auto& loops : sampled.part_loops) {
+      integers.push_back(static_cast<std::uint32_t>(loops.size()));
+      for (const auto& loop : loops) {
+        integers.push_back(static_cast<std::uint32_t>(loop.size()));
+        integers.insert(integers.end(), loop.begin(), loop.end());
+      }
+    }
+    flags = sampled.on_region_boundary;
+    flags.insert(flags.end(), sampled.fixed.begin(), sampled.fixed.end());
+  }
+  std::uint64_t lengths[3] = {reals.size(), integers.size(), flags.size()};
+  MPI_Bcast(lengths, 3, MPI_UINT64_T, 0, MPI_COMM_WORLD);
+  reals.resize(lengths[0]);
+  integers.resize(lengths[1]);
+  flags.resize(lengths[2]);
+  MPI_Bcast(reals.data(), static_cast<int>(reals.size()), MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  MPI_Bcast(integers.data(), static_cast<int>(integers.size()), MPI_UINT32_T, 0, MPI_COMM_WORLD);
+  MPI_Bcast(flags.data(), static_cast<int>(flags.size()), MPI_UINT8_T, 0, MPI_COMM_WORLD);
+  if (root) return;
+  SampledPartition& sampled = setup.sampled;
+  const std::size_t parts = integers[0], points = integers[1];
+  setup.size = reals[0];
+  sampled.size = setup.size;
+  setup.partition.part_areas.assign(reals.begin() + 1, reals.begin() + 1 + static_cast<std::ptrdiff_t>(parts));
+  for (std::size_t i = 0; i < points; ++i)
+    sampled.points.emplace_back(reals[1 + parts + 2 * i], reals[2 + parts + 2 * i]);
+  std::size_t at = 2;
+  sampled.part_loops.assign(parts, {});
+  for (std::size_t p = 0; p < parts; ++p) {
+    const std::size_t loops = integers[at++];
+    for (std::size_t l = 0; l < loops; ++l) {
+      const std::size_t length = integers[at++];
+      sampled.part_loops[p].emplace_back(integers.begin() + static_cast<std::ptrdiff_t>(at),
+                                         integers.begin() + static_cast<std::ptrdiff_t>(at + length));
+      at += length;
+    }
+  }
+  sampled.on_region_boundary.assign(flags.begin(), flags.begin() + static_cast<std::ptrdiff_t>(points));
+  sampled.fixed.assign(flags.begin() + static_cast<std::ptrdiff_t>(points), flags.end());
+}
+
 }  // namespace
 
 bool launched_by_mpirun() {
@@ -207,10 +261,12 @@ int run_ranks(const MpiSession& mpi, const Quad2dSettings& settings, const Quad2
     stage_start = Clock::now();
   };
 
-  // 1. The same partition and samples on every rank.
+  // 1. Rank 0 partitions and samples; every rank gets the samples and part areas.
   Quad2dOptions rank_options = options;
   rank_options.progress = options.progress && root;
-  const Quad2dSetup setup = setup_quad2d(region, rank_options, static_cast<std::size_t>(ranks));
+  Quad2dSetup setup;
+  if (root) setup = setup_quad2d(region, rank_options, static_cast<std::size_t>(ranks));
+  broadcast_setup(setup, root);
   const SampledPartition& sampled = setup.sampled;
   const std::size_t parts = sampled.part_loops.size();
   const std::size_t sample_count = sampled.points.size();
