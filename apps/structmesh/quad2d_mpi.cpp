@@ -158,7 +158,10 @@ RelaxComm make_comm(const Exchange& exchange) {
     const std::vector<std::uint8_t> received = all_to_all(send, counts);
     std::size_t at = 0;
     for (int r = 0; r < ranks; ++r)
-      for (const Index v : exchange.send[r]) flags[v] = flags[v] && received[at++] ? 1 : 0;
+      for (const Index v : exchange.send[r]) {
+        const std::uint8_t copy = received[at++];  // read before the && (no short circuit past it)
+        flags[v] = flags[v] && copy ? 1 : 0;
+      }
     push_to_copies<std::uint8_t>(
         exchange, 1, [&](Index v, int) { return flags[v]; }, [&](Index v, int, std::uint8_t x) { flags[v] = x; });
   };

@@ -138,6 +138,35 @@ expect 2 "partition2d writes" -- "$sm" partition2d key --parts 2 -o "$work/parts
 printf '{"type": "Polygon", "coordinates": [[[0,0],[2,2],[2,0],[0,2],[0,0]]]}' >"$work/bowtie.geojson"
 expect 2 "not valid" -- "$sm" partition2d "$work/bowtie.geojson" --parts 2
 
+# quad2d: all-quad, conforming, valid; every writer; identical meshes for 1 and 2
+# threads and for 1, 2 and 4 MPI ranks (the merged file of an MPI run is the same bytes)
+printf '{"type":"Polygon","coordinates":[[[0,0],[400,0],[400,200],[0,200],[0,0]],[[250,60],[290,60],[290,120],[250,120],[250,60]]]}' >"$work/plate.geojson"
+expect 0 "inverted 0," -- "$sm" quad2d "$work/plate.geojson" --size 6 --parts 4 --threads 1 -o "$work/plate.vtu" \
+  -o "$work/plate.msh" -o "$work/plate.mesh" -o "$work/plate.pvtu" -o "$work/plate.png" --json "$work/plate.json"
+expect 0 "" -- "$sm" check "$work/plate.vtu"
+expect 0 "" -- "$sm" check "$work/plate.msh"
+expect 0 "scaled Jacobian" -- "$sm" quality "$work/plate.mesh"
+[[ $(json_field "$work/plate.json" "['inverted']") == 0 ]] || { echo "FAIL: quad2d inverted"; failed=$((failed + 1)); }
+/usr/bin/python3 -c "import json,sys; d=json.load(open(sys.argv[1])); sys.exit(0 if d['quads'] > 1000 and abs(d['mesh_area'] - d['region_area']) < 1e-9 * d['region_area'] else 1)" "$work/plate.json" ||
+  { echo "FAIL: quad2d area or quad count"; failed=$((failed + 1)); }
+head -c 8 "$work/plate.png" | od -An -c | grep -q "P   N   G" || { echo "FAIL: plate.png is not a PNG"; failed=$((failed + 1)); }
+[[ -f "$work/plate_0.vtu" ]] || { echo "FAIL: plate.pvtu has no piece"; failed=$((failed + 1)); }
+expect 0 "" -- "$sm" quad2d "$work/plate.geojson" --size 6 --parts 4 --threads 2 -o "$work/plate2.vtu"
+cmp -s "$work/plate.vtu" "$work/plate2.vtu" || { echo "FAIL: quad2d differs between 1 and 2 threads"; failed=$((failed + 1)); }
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+for np in 1 2 4; do
+  expect 0 "on $np ranks" -- mpirun --oversubscribe -np $np "$sm" quad2d "$work/plate.geojson" --size 6 --parts 4 \
+    --threads 1 -o "$work/mpi$np.pvtu" --merged "$work/mpi$np.vtu" --json "$work/mpi$np.json"
+  cmp -s "$work/plate.vtu" "$work/mpi$np.vtu" || { echo "FAIL: quad2d on $np MPI ranks differs from threads"; failed=$((failed + 1)); }
+  [[ -f "$work/mpi${np}_$((np - 1)).vtu" ]] || { echo "FAIL: no piece of rank $((np - 1))"; failed=$((failed + 1)); }
+done
+expect 2 "" -- "$sm" quad2d "$work/plate.geojson" --size -1
+expect 2 "" -- "$sm" quad2d "$work/plate.geojson" --size 5 --quads 100
+expect 2 "quad2d writes" -- "$sm" quad2d "$work/plate.geojson" --size 6 -o "$work/plate.obj"
+expect 2 "lon/lat" -- "$sm" quad2d "$work/plate.geojson" --size 6 --lonlat-output
+expect 2 "view" -- "$sm" quad2d "$work/plate.geojson" --size 6 --view 1,2,3 -o "$work/v.png"
+expect 2 "not valid" -- "$sm" quad2d "$work/bowtie.geojson" --size 0.1
+
 # real data: valid, open and self-intersecting models are told apart
 if [[ -d "$data/surfaces" ]]; then
   expect 0 "genus +1" -- "$sm" check "$data/surfaces/rocker-arm.obj"
