@@ -1,12 +1,20 @@
 // Gmsh 4.8.4 all-quad baseline; see gmsh_quads.hpp and RECIPES.md (Gmsh section).
 #include "gmsh_quads.hpp"
 
+#include "structmesh/quality.hpp"
+
 #include <gmsh.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
 #include <exception>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
@@ -168,6 +176,74 @@ GmshQuadResult gmsh_all_quad(const Polygon2& region, double h, int algorithm) {
   if (!result.error.empty()) result.mesh = {};
   gmsh::finalize();
   return result;
+}
+
+GmshQuadSummary gmsh_all_quad_isolated(const Polygon2& region, double h, int algorithm, unsigned timeout_seconds) {
+  // The child sends the numbers (a fixed-size record) and then the failure text.
+  struct Record {
+    std::uint64_t quads, leftover_triangles, inverted, singular_vertices;
+    double avg, stddev, min, seconds;
+  };
+  GmshQuadSummary summary;
+  int fds[2];
+  if (pipe(fds) != 0) {
+    summary.failure = "pipe failed";
+    return summary;
+  }
+  std::fflush(stdout);
+  std::fflush(stderr);
+  const pid_t child = fork();
+  if (child == 0) {
+    close(fds[0]);
+    alarm(timeout_seconds);
+    const GmshQuadResult result = gmsh_all_quad(region, h, algorithm);
+    Record record{};
+    std::string failure = result.error;
+    if (failure.empty()) {
+      const QuadQuality q = quad_quality(result.mesh);
+      record = {result.mesh.quads.size(),
+                result.leftover_triangles,
+                q.inverted,
+                q.singular_vertices,
+                q.scaled_jacobian_stats.mean,
+                q.scaled_jacobian_stats.stddev,
+                q.scaled_jacobian_stats.min,
+                result.seconds};
+    }
+    bool ok = write(fds[1], &record, sizeof record) == static_cast<ssize_t>(sizeof record);
+    ok = ok && write(fds[1], failure.data(), failure.size()) == static_cast<ssize_t>(failure.size());
+    _exit(ok ? 0 : 1);
+  }
+  close(fds[1]);
+  std::string bytes;
+  char buffer[4096];
+  ssize_t n;
+  while ((n = read(fds[0], buffer, sizeof buffer)) > 0) bytes.append(buffer, static_cast<std::size_t>(n));
+  close(fds[0]);
+  int status = 0;
+  waitpid(child, &status, 0);
+  if (WIFSIGNALED(status)) {
+    const int signal = WTERMSIG(status);
+    summary.failure = signal == SIGALRM ? "timed out (" + std::to_string(timeout_seconds) + " s)"
+                                        : "crashed (" + std::string(strsignal(signal)) + ")";
+    return summary;
+  }
+  if (bytes.size() < sizeof(Record)) {
+    summary.failure = "no result from the child process";
+    return summary;
+  }
+  Record record;
+  std::memcpy(&record, bytes.data(), sizeof record);
+  summary.failure = bytes.substr(sizeof record);
+  summary.quads = record.quads;
+  summary.leftover_triangles = record.leftover_triangles;
+  summary.inverted = record.inverted;
+  summary.singular_vertices = record.singular_vertices;
+  summary.scaled_jacobian_avg = record.avg;
+  summary.scaled_jacobian_std = record.stddev;
+  summary.scaled_jacobian_min = record.min;
+  summary.seconds = record.seconds;
+  return summary;
 }
 
 }  // namespace structmesh

@@ -6,6 +6,7 @@
 #include "structmesh/mesh.hpp"
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 
 namespace structmesh {
@@ -28,5 +29,18 @@ struct GmshQuadResult {
 /// run concurrently. Gmsh errors are returned in `error`; a Gmsh crash (it can abort
 /// the process) is not caught here: run the call in a child process to survive one.
 GmshQuadResult gmsh_all_quad(const Polygon2& region, double h, int algorithm);
+
+/// What the benchmark tables need of a Gmsh run, measured as we measure ours
+/// (quad_quality: Verdict's scaled Jacobian, singular = interior valence != 4).
+struct GmshQuadSummary {
+  std::string failure;  // empty on success; else Gmsh's error, "crashed (...)" or "timed out"
+  std::size_t quads = 0, leftover_triangles = 0, inverted = 0, singular_vertices = 0;
+  double scaled_jacobian_avg = 0, scaled_jacobian_std = 0, scaled_jacobian_min = 0, seconds = 0;
+};
+
+/// gmsh_all_quad in a forked child process with a time limit: Gmsh can abort the
+/// process (an odd 1D mesh, a segfault in a meshing algorithm), and one crash must
+/// not end a benchmark run.
+GmshQuadSummary gmsh_all_quad_isolated(const Polygon2& region, double h, int algorithm, unsigned timeout_seconds);
 
 }  // namespace structmesh

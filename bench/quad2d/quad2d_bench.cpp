@@ -5,13 +5,19 @@
 //   bench_quad2d table DATA_DIR [SEGMENTS]   Table 3.4: Key/32, Pipe/16, Gulf/512,1024; all partitionings
 //   bench_quad2d scaling DATA_DIR            1 vs 2 threads; per-part times; predicted speedup 4..1024
 //   bench_quad2d large DATA_DIR QUADS        Gulf of Mexico at about QUADS quads: time, quads/s, memory
+//   bench_quad2d gmsh                        ours beside Gmsh 4.8's best all-quad, same regions and sizes
 //
 // Prints Markdown; bench/run_quad2d.sh stores it in bench/results/quad2d.md.
+#include "bench_inputs.hpp"
 #include "structmesh/io.hpp"
 #include "structmesh/quad2d.hpp"
 #include "structmesh/regions.hpp"
 
 #include <oneapi/tbb/global_control.h>
+
+#ifdef STRUCTMESH_BENCH_GMSH
+#include "gmsh_quads.hpp"
+#endif
 
 #include <algorithm>
 #include <cstdio>
@@ -180,6 +186,64 @@ void large(const std::filesystem::path& data, std::size_t quads) {
               static_cast<double>(r.quads) / total, r.peak_rss_mb);
 }
 
+void versus_gmsh() {
+  struct Case {
+    std::string name;
+    Polygon2 region;
+    double size;
+    std::size_t parts;  // 0: our default
+  };
+  std::vector<Case> cases;
+  cases.push_back({"(a) unit square, hole r = 0.25, h = 0.02", bench::square_with_hole(), 0.02, 0});
+  cases.push_back({"(b) noisy disk + island, h = 0.01", bench::noisy_disk_with_island(), 0.01, 0});
+  Polygon2 key = make_key_region(2000), pipe = make_pipe_region(2000);
+  const double key_h = bench::perimeter(key) / 2000, pipe_h = bench::perimeter(pipe) / 2000;
+  cases.push_back({"(c) Key, 2000 segments, h = mean segment", std::move(key), key_h, 32});
+  cases.push_back({"(d) Pipe, 2000 segments, h = mean segment", std::move(pipe), pipe_h, 16});
+  std::printf("| input | mesher | quads | SJ avg / std / min | singular | inverted | seconds | quads/s |\n");
+  std::printf("|---|---|---:|---|---:|---:|---:|---:|\n");
+  for (const Case& c : cases) {
+    for (const int threads : {1, 2}) {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+      Quad2dOptions options;
+      options.size = c.size;
+      options.partition.parts = c.parts;
+      try {
+        const Quad2dResult result = mesh_region_quads(c.region, options);
+        const Quad2dReport& r = result.report;
+        const double seconds = total_seconds(r);
+        std::printf(
+            "| %s | structmesh, %zu parts, %d thread%s | %zu | %.3f / %.3f / %.3f | %zu | %zu | %.2f | %.0f |\n",
+            c.name.c_str(), r.parts, threads, threads > 1 ? "s" : "", r.quads, r.scaled_jacobian_avg,
+            r.scaled_jacobian_std, r.scaled_jacobian_min, r.singular_vertices, r.inverted, seconds,
+            static_cast<double>(r.quads) / seconds);
+      } catch (const std::exception& e) {
+        std::printf("| %s | structmesh, %d threads | failed: %s | | | | | |\n", c.name.c_str(), threads, e.what());
+      }
+      std::fflush(stdout);
+    }
+#ifdef STRUCTMESH_BENCH_GMSH
+    for (const int algorithm : {6, 8}) {
+      const GmshQuadSummary g = gmsh_all_quad_isolated(c.region, c.size, algorithm, 900);
+      if (!g.failure.empty()) {
+        std::printf("| %s | Gmsh 4.8 alg. %d + Blossom full-quad | %s | | | | | |\n", c.name.c_str(), algorithm,
+                    g.failure.c_str());
+        continue;
+      }
+      std::printf(
+          "| %s | Gmsh 4.8 alg. %d + Blossom full-quad, 1 thread | %zu (+%zu triangles) | %.3f / %.3f / %.3f | "
+          "%zu | %zu | %.2f | %.0f |\n",
+          c.name.c_str(), algorithm, g.quads, g.leftover_triangles, g.scaled_jacobian_avg, g.scaled_jacobian_std,
+          g.scaled_jacobian_min, g.singular_vertices, g.inverted, g.seconds,
+          g.seconds > 0 ? static_cast<double>(g.quads) / g.seconds : 0.0);
+      std::fflush(stdout);
+    }
+#else
+    std::printf("| %s | Gmsh | not built (no Gmsh library) | | | | | |\n", c.name.c_str());
+#endif
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -189,10 +253,13 @@ int main(int argc, char** argv) {
       table(argv[2], argc > 3 ? std::strtoul(argv[3], nullptr, 10) : 2000);
     } else if (mode == "scaling" && argc >= 3) {
       scaling(argv[2]);
+    } else if (mode == "gmsh") {
+      versus_gmsh();
     } else if (mode == "large" && argc >= 4) {
       large(argv[2], std::strtoul(argv[3], nullptr, 10));
     } else {
-      std::fprintf(stderr, "usage: bench_quad2d table DATA_DIR [SEGMENTS] | scaling DATA_DIR | large DATA_DIR QUADS\n");
+      std::fprintf(stderr,
+                   "usage: bench_quad2d table DATA_DIR [SEGMENTS] | scaling DATA_DIR | large DATA_DIR QUADS | gmsh\n");
       return 2;
     }
   } catch (const std::exception& e) {
