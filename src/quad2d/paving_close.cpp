@@ -105,26 +105,31 @@ class TemplateSearch {
     }
   }
 
-  /// Optimises the interior points of every tiling and returns the best valid one.
+  /// Scores every tiling after a quick placement of its interior points, optimises
+  /// the most promising ones fully, and returns the best valid one.
   const Tiling* best(double polygon_area, double& best_min) {
+    std::vector<std::pair<double, std::size_t>> quick;
+    for (std::size_t k = 0; k < tilings_.size(); ++k) {
+      Tiling& t = tilings_[k];
+      for (int sweep = 0; sweep < 2 && !t.extra.empty(); ++sweep)
+        for (std::size_t e = 0; e < t.extra.size(); ++e) optimize(t, static_cast<int>(n_ + e), 0);
+      double worst = 0;
+      quick.emplace_back(score(t, polygon_area, worst), k);
+    }
+    std::sort(quick.begin(), quick.end(), [](const auto& x, const auto& y) {
+      return x.first > y.first || (x.first == y.first && x.second < y.second);
+    });
     const Tiling* winner = nullptr;
     double best_score = -1e300;
     best_min = -1;
-    for (Tiling& t : tilings_) {
+    for (std::size_t r = 0; r < quick.size() && r < 4; ++r) {
+      Tiling& t = tilings_[quick[r].second];
       for (int sweep = 0; sweep < 4 && !t.extra.empty(); ++sweep)
-        for (std::size_t e = 0; e < t.extra.size(); ++e) optimize(t, static_cast<int>(n_ + e));
-      double area = 0, worst = 1, total = 0;
-      for (const auto& q : t.quads) {
-        const double sj = scaled_jacobian(at(t, q[0]), at(t, q[1]), at(t, q[2]), at(t, q[3]));
-        worst = std::min(worst, sj);
-        total += sj;
-        area += quad_area(at(t, q[0]), at(t, q[1]), at(t, q[2]), at(t, q[3]));
-      }
-      if (worst <= 0.02 || std::abs(area - polygon_area) > 1e-9 * std::abs(polygon_area) + 1e-300) continue;
-      // Fewer interior points (fewer singular vertices) at equal quality.
-      const double score = worst + 0.5 * total / static_cast<double>(t.quads.size()) - 0.02 * t.extra.size();
-      if (score > best_score) {
-        best_score = score;
+        for (std::size_t e = 0; e < t.extra.size(); ++e) optimize(t, static_cast<int>(n_ + e), 12);
+      double worst = 0;
+      const double s = score(t, polygon_area, worst);
+      if (s > best_score && worst > 0.02) {
+        best_score = s;
         best_min = worst;
         winner = &t;
       }
@@ -154,7 +159,21 @@ class TemplateSearch {
     }
     return worst;
   }
-  void optimize(Tiling& t, int ref) {
+  /// min + half the mean scaled Jacobian, less a little per interior point (fewer
+  /// singular vertices at equal quality); -1e300 when the tiling is not valid.
+  double score(const Tiling& t, double polygon_area, double& worst) const {
+    double area = 0, total = 0;
+    worst = 1;
+    for (const auto& q : t.quads) {
+      const double sj = scaled_jacobian(at(t, q[0]), at(t, q[1]), at(t, q[2]), at(t, q[3]));
+      worst = std::min(worst, sj);
+      total += sj;
+      area += quad_area(at(t, q[0]), at(t, q[1]), at(t, q[2]), at(t, q[3]));
+    }
+    if (worst <= 0.02 || std::abs(area - polygon_area) > 1e-9 * std::abs(polygon_area) + 1e-300) return -1e300;
+    return worst + 0.5 * total / static_cast<double>(t.quads.size()) - 0.02 * static_cast<double>(t.extra.size());
+  }
+  void optimize(Tiling& t, int ref, int iterations) {
     Vec2& p = t.extra[ref - n_];
     // Start from the mean of the ideal parallelogram points of the quads around it.
     Vec2 ideal(0, 0);
@@ -178,7 +197,7 @@ class TemplateSearch {
       now = cand;
     }
     double step = 0.1 * len / count;
-    for (int it = 0; it < 12; ++it) {
+    for (int it = 0; it < iterations; ++it) {
       bool improved = false;
       for (const Vec2& d : {Vec2(1, 0), Vec2(-1, 0), Vec2(0, 1), Vec2(0, -1)}) {
         const double q = quality_around(t, ref, p + step * d);
@@ -238,9 +257,20 @@ bool Paver::close_with_template(Index loop) {
   TemplateSearch search(boundary);
   std::vector<int> poly(n);
   for (std::size_t i = 0; i < n; ++i) poly[i] = static_cast<int>(i);
-  search.enumerate({poly}, {}, true);
+  // Chords and fans first; chords through an interior point only when those are poor.
+  search.enumerate({poly}, {}, false);
   double worst = 0;
   const Tiling* t = search.best(loops_[loop].area, worst);
+  if (n >= 4 && (t == nullptr || worst < 0.75)) {
+    TemplateSearch wider(boundary);
+    wider.enumerate({poly}, {}, true);
+    double wider_worst = 0;
+    const Tiling* w = wider.best(loops_[loop].area, wider_worst);
+    if (w != nullptr && (t == nullptr || wider_worst > worst)) {
+      search = std::move(wider);
+      t = search.best(loops_[loop].area, worst);
+    }
+  }
   if (t == nullptr) return false;
   std::vector<Index> extra(t->extra.size());
   for (std::size_t e = 0; e < extra.size(); ++e) extra[e] = mesh_.add_point(t->extra[e]);

@@ -62,7 +62,8 @@ bool Paver::optimize_point(Index p) {
   double step = 0.15 * len / count;
   bool improved_any = false;
   static constexpr double kDiag = 0.70710678118654752;
-  for (int it = 0; it < 16; ++it) {
+  const double smallest = 0.01 * step;
+  for (int it = 0; it < 16 && step > smallest; ++it) {
     bool improved = false;
     for (const Vec2& d : {Vec2(1, 0), Vec2(-1, 0), Vec2(0, 1), Vec2(0, -1), Vec2(kDiag, kDiag), Vec2(-kDiag, -kDiag),
                           Vec2(kDiag, -kDiag), Vec2(-kDiag, kDiag)}) {
@@ -85,7 +86,7 @@ void Paver::final_smoothing() {
   const auto total = static_cast<Index>(mesh_.points.size());
   std::vector<std::uint8_t> active(total, 0), next(total, 0);
   for (Index p = mesh_.fixed_count; p < total; ++p) active[p] = 1;
-  const double still = 1e-4 * size_;
+  const double still = 1e-3 * size_;
   for (int sweep = 0; sweep < options_.final_smoothing_iterations; ++sweep) {
     bool any = false;
     std::fill(next.begin(), next.end(), 0);
@@ -106,7 +107,7 @@ void Paver::final_smoothing() {
     bool any = false;
     for (const auto& q : mesh_.quads) {
       const auto& P = mesh_.points;
-      if (scaled_jacobian(P[q[0]], P[q[1]], P[q[2]], P[q[3]]) >= 0.8) continue;
+      if (scaled_jacobian(P[q[0]], P[q[1]], P[q[2]], P[q[3]]) >= 0.7) continue;
       for (const Index v : q) any |= optimize_point(v);
     }
     if (!any) break;
