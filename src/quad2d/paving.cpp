@@ -105,7 +105,8 @@ PavedPart Paver::run() {
     // A loop bounding its component that makes no progress twice is closed by the
     // fallback; a hole's loop waits for the front around it.
     if (loops_[l].area > 0 && loops_[l].stuck >= 2) {
-      fallback(l);
+      if (!close_with_ring(l)) fallback(l);
+      for (Index k = static_cast<Index>(loops_before); k < loops_.size(); ++k) queue.push_back(k);
       idle = 0;
       continue;
     }

@@ -272,6 +272,16 @@ bool Paver::close_with_template(Index loop) {
     }
   }
   if (t == nullptr) return false;
+  {
+    // No interior point of valence below 3 (a doublet).
+    std::vector<int> valence(n + t->extra.size(), 0);
+    for (const auto& q : t->quads)
+      for (const int v : q) ++valence[v];
+    for (std::size_t i = 0; i < n; ++i)
+      if (makes_doublet(pts[i], valence[i])) return false;
+    for (std::size_t e = 0; e < t->extra.size(); ++e)
+      if (valence[n + e] < 3) return false;
+  }
   std::vector<Index> extra(t->extra.size());
   for (std::size_t e = 0; e < extra.size(); ++e) extra[e] = mesh_.add_point(t->extra[e]);
   for (const auto& q : t->quads) {
@@ -283,6 +293,58 @@ bool Paver::close_with_template(Index loop) {
   for (const Index e : extra) released_.push_back(e);
   loops_[loop].alive = false;
   loops_[loop].size = 0;
+  ++stats_.templates;
+  return true;
+}
+
+bool Paver::close_with_ring(Index loop) {
+  if (contains_open_hole(loop)) return false;
+  const std::vector<Index> nodes = loop_nodes(loop);
+  const std::size_t n = nodes.size();
+  Vec2 c(0, 0);
+  for (const Index v : nodes) c += pos(v) / static_cast<double>(n);
+  double r_min = 1e300;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2 a = pos(nodes[i]) - c, b = pos(nodes[(i + 1) % n]) - c;
+    if (!(cross(a, b) > 1e-9 * a.norm() * b.norm())) return false;  // not star-shaped from c
+    r_min = std::min(r_min, a.norm());
+  }
+  std::vector<Vec2> inner(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2 a = pos(nodes[i]) - c;
+    inner[i] = n <= 8 ? c + 0.5 * r_min * a.normalized() : c + 0.6 * a;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t j = (i + 1) % n;
+    if (scaled_jacobian(pos(nodes[i]), pos(nodes[j]), inner[j], inner[i]) < 0.05) return false;
+  }
+  std::vector<Index> pts(n);
+  for (std::size_t i = 0; i < n; ++i) pts[i] = mesh_.add_point(inner[i]);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t j = (i + 1) % n;
+    emit_quad({node_point_[nodes[i]], node_point_[nodes[j]], pts[j], pts[i]});
+  }
+  for (const Index v : nodes) kill_node(v);
+  loops_[loop].alive = false;
+  loops_[loop].size = 0;
+  const auto id = static_cast<Index>(loops_.size());
+  Loop fresh;
+  fresh.alive = true;
+  fresh.size = static_cast<Index>(n);
+  fresh.area = signed_area(inner);
+  Index first = kInvalidIndex, last = kInvalidIndex;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Index f = new_node(pts[i], id);
+    if (first == kInvalidIndex) {
+      first = f;
+    } else {
+      set_next(last, f);
+    }
+    last = f;
+  }
+  set_next(last, first);
+  fresh.head = first;
+  loops_.push_back(fresh);
   ++stats_.templates;
   return true;
 }
@@ -344,15 +406,8 @@ void Paver::fallback(Index loop) {
   }
   if (!done) throw Error(where + " could not be closed: no perfect matching of its triangulation");
 
-  std::vector<Index> mesh_id(tri.points.size());
-  for (std::size_t i = 0; i < tri.points.size(); ++i) {
-    if (i < point_of.size()) {
-      mesh_id[i] = point_of[i];
-    } else {
-      mesh_id[i] = mesh_.add_point(tri.points[i]);
-      released_.push_back(mesh_id[i]);
-    }
-  }
+  // Quads in triangulation numbering.
+  std::vector<std::array<Index, 4>> quads;
   for (Index f = 0; f < tri.triangles.size(); ++f) {
     const Index g = mate[f];
     if (g < f) continue;
@@ -361,13 +416,43 @@ void Paver::fallback(Index loop) {
     // t1 = (x, y, z) with the shared edge x -> y; t2 holds y -> x and its third node w.
     for (int j = 0; j < 3; ++j) {
       const Index x = t1[j], y = t1[(j + 1) % 3], z = t1[(j + 2) % 3];
-      for (int k = 0; k < 3; ++k) {
-        if (t2[k] == y && t2[(k + 1) % 3] == x) {
-          const Index w = t2[(k + 2) % 3];
-          emit_quad({mesh_id[x], mesh_id[w], mesh_id[y], mesh_id[z]});
-        }
-      }
+      for (int k = 0; k < 3; ++k)
+        if (t2[k] == y && t2[(k + 1) % 3] == x) quads.push_back({x, t2[(k + 2) % 3], y, z});
     }
+  }
+  // Doublets: an interior point of two quads (p, a, x, b) and (p, b, y, a) goes, and
+  // the two quads become (a, x, b, y).
+  const auto boundary_count = static_cast<Index>(point_of.size());
+  for (bool again = true; again;) {
+    again = false;
+    std::vector<std::vector<std::size_t>> around(tri.points.size());
+    for (std::size_t q = 0; q < quads.size(); ++q)
+      for (const Index v : quads[q]) around[v].push_back(q);
+    for (Index p = boundary_count; p < tri.points.size() && !again; ++p) {
+      if (around[p].size() != 2) continue;
+      auto rotate_to = [&](std::array<Index, 4> q) {
+        while (q[0] != p) std::rotate(q.begin(), q.begin() + 1, q.end());
+        return q;
+      };
+      const auto q1 = rotate_to(quads[around[p][0]]), q2 = rotate_to(quads[around[p][1]]);
+      if (q1[1] != q2[3] || q1[3] != q2[1]) continue;
+      quads[around[p][0]] = {q1[1], q1[2], q1[3], q2[2]};
+      quads.erase(quads.begin() + static_cast<std::ptrdiff_t>(around[p][1]));
+      again = true;
+    }
+  }
+  std::vector<Index> mesh_id(tri.points.size(), kInvalidIndex);
+  for (Index i = 0; i < boundary_count; ++i) mesh_id[i] = point_of[i];
+  for (const auto& q : quads) {
+    std::array<Index, 4> mq{};
+    for (int j = 0; j < 4; ++j) {
+      if (mesh_id[q[j]] == kInvalidIndex) {
+        mesh_id[q[j]] = mesh_.add_point(tri.points[q[j]]);
+        released_.push_back(mesh_id[q[j]]);
+      }
+      mq[j] = mesh_id[q[j]];
+    }
+    emit_quad(mq);
   }
   for (const Index l : loop_ids) {
     for (const Index v : loop_nodes(l)) kill_node(v);

@@ -293,6 +293,8 @@ bool Paver::try_quad(const std::array<Slot, 4>& slots, double min_quality, doubl
 
   if (k == 4) {
     if (loops_[loop].size != 4) return false;
+    for (int j = 0; j < 4; ++j)
+      if (makes_doublet(qp[j], 1)) return false;
     emit_quad(qp);
     for (int j = 0; j < 4; ++j) kill_node(fn[j]);
     loops_[loop].alive = false;
@@ -301,13 +303,22 @@ bool Paver::try_quad(const std::array<Slot, 4>& slots, double min_quality, doubl
   }
 
   const Index e0 = fn[r], ek = fn[(r + k) % 4];
+  for (int t = 1; t < k; ++t)
+    if (makes_doublet(qp[(r + t) % 4], 1)) return false;
   // Wedge test: the quad's corner at each chain end must fit in the front's angle there.
   const Vec2& p0 = q[r];
   const double corner0 = ccw_angle(q[(r + 1) % 4] - p0, q[(r + 3) % 4] - p0);
-  if (corner0 >= interior_angle(e0) - 1e-9) return false;
+  const double angle0 = interior_angle(e0);
+  if (corner0 >= angle0 - 1e-9) return false;
+  // No sliver of front left at either end: the angle that remains is at least 30°
+  // unless it was that sharp already.
+  constexpr double kMinLeft = kPi / 6;
+  if (angle0 - corner0 < kMinLeft && angle0 - corner0 < 0.9 * angle0) return false;
   const Vec2& pk = q[(r + k) % 4];
   const double cornerk = ccw_angle(q[(r + k + 1) % 4] - pk, q[(r + k + 3) % 4] - pk);
-  if (cornerk >= interior_angle(ek) - 1e-9) return false;
+  const double anglek = interior_angle(ek);
+  if (cornerk >= anglek - 1e-9) return false;
+  if (anglek - cornerk < kMinLeft && anglek - cornerk < 0.9 * anglek) return false;
 
   // The new edges (ek -> new points -> e0) must cross no front edge.
   for (int t = k; t < 4; ++t) {

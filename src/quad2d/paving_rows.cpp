@@ -333,6 +333,7 @@ bool Paver::seams(Index loop) {
     const Index u = node_prev_[v], w = node_next_[v];
     const Index pu = node_point_[u], pw = node_point_[w];
     if (pu == pw || point_fronts_[pu] != 1 || point_fronts_[pw] != 1) continue;
+    if (makes_doublet(node_point_[v], 0)) continue;
     const bool fu = pu < mesh_.fixed_count, fw = pw < mesh_.fixed_count;
     if (fu && fw) continue;
     const Index keep = fu ? pu : (fw ? pw : std::min(pu, pw));
