@@ -372,10 +372,11 @@ void Paver::fallback(Index loop) {
   const std::string where = "paving: a front loop of " + std::to_string(loops_[loop].size) + " nodes near (" +
                             std::to_string(pos(loops_[loop].head).x()) + ", " +
                             std::to_string(pos(loops_[loop].head).y()) + ")";
+  const auto boundary_count = static_cast<Index>(point_of.size());
   RegionTriangulation tri;
-  std::vector<Index> mate;
+  std::vector<std::array<Index, 4>> quads;  // in triangulation numbering
   bool done = false;
-  for (const double factor : {1.0, 0.75, 1.5, 0.0}) {
+  for (const double factor : {1.0, 0.75, 0.55, 0.4, 0.3, 1.5, 0.0}) {
     try {
       tri = triangulate_region(region, {.steiner_spacing = factor * size_});
     } catch (const Error& e) {
@@ -399,48 +400,57 @@ void Paver::fallback(Index loop) {
     boost::edmonds_maximum_cardinality_matching(graph, &match[0]);
     const auto null = boost::graph_traits<decltype(graph)>::null_vertex();
     if (std::any_of(match.begin(), match.end(), [null](auto v) { return v == null; })) continue;
-    mate.assign(t, kInvalidIndex);
-    for (Index f = 0; f < t; ++f) mate[f] = static_cast<Index>(match[f]);
-    done = true;
-    break;
+    quads.clear();
+    for (Index f = 0; f < t; ++f) {
+      const auto g = static_cast<Index>(match[f]);
+      if (g < f) continue;
+      const auto& t1 = tri.triangles[f];
+      const auto& t2 = tri.triangles[g];
+      // t1 = (x, y, z) with the shared edge x -> y; t2 holds y -> x and its third node w.
+      for (int j = 0; j < 3; ++j) {
+        const Index x = t1[j], y = t1[(j + 1) % 3], z = t1[(j + 2) % 3];
+        for (int k = 0; k < 3; ++k)
+          if (t2[k] == y && t2[(k + 1) % 3] == x) quads.push_back({x, t2[(k + 2) % 3], y, z});
+      }
+    }
+    // Doublets: an interior point of two quads (p, a, x, b) and (p, b, y, a) goes, and
+    // the two quads become (a, x, b, y).
+    for (bool again = true; again;) {
+      again = false;
+      std::vector<std::vector<std::size_t>> around(tri.points.size());
+      for (std::size_t q = 0; q < quads.size(); ++q)
+        for (const Index v : quads[q]) around[v].push_back(q);
+      for (Index p = boundary_count; p < tri.points.size() && !again; ++p) {
+        if (around[p].size() != 2) continue;
+        auto rotate_to = [&](std::array<Index, 4> q) {
+          while (q[0] != p) std::rotate(q.begin(), q.begin() + 1, q.end());
+          return q;
+        };
+        const auto q1 = rotate_to(quads[around[p][0]]), q2 = rotate_to(quads[around[p][1]]);
+        if (q1[1] != q2[3] || q1[3] != q2[1]) continue;
+        quads[around[p][0]] = {q1[1], q1[2], q1[3], q2[2]};
+        quads.erase(quads.begin() + static_cast<std::ptrdiff_t>(around[p][1]));
+        again = true;
+      }
+    }
+    // A free loop point must not end as a doublet, and no quad may be folded.
+    std::vector<int> added(boundary_count, 0);
+    bool ok = true;
+    for (const auto& q : quads) {
+      const auto& P = tri.points;
+      if (!(quad_area(P[q[0]], P[q[1]], P[q[2]], P[q[3]]) > 0)) ok = false;
+      for (const Index v : q)
+        if (v < boundary_count) ++added[v];
+    }
+    for (Index i = 0; i < boundary_count && ok; ++i)
+      if (makes_doublet(point_of[i], added[i])) ok = false;
+    if (ok) {
+      done = true;
+      break;
+    }
   }
-  if (!done) throw Error(where + " could not be closed: no perfect matching of its triangulation");
+  if (!done) throw Error(where + " could not be closed: no perfect matching of its triangulation without doublets");
 
-  // Quads in triangulation numbering.
-  std::vector<std::array<Index, 4>> quads;
-  for (Index f = 0; f < tri.triangles.size(); ++f) {
-    const Index g = mate[f];
-    if (g < f) continue;
-    const auto& t1 = tri.triangles[f];
-    const auto& t2 = tri.triangles[g];
-    // t1 = (x, y, z) with the shared edge x -> y; t2 holds y -> x and its third node w.
-    for (int j = 0; j < 3; ++j) {
-      const Index x = t1[j], y = t1[(j + 1) % 3], z = t1[(j + 2) % 3];
-      for (int k = 0; k < 3; ++k)
-        if (t2[k] == y && t2[(k + 1) % 3] == x) quads.push_back({x, t2[(k + 2) % 3], y, z});
-    }
-  }
-  // Doublets: an interior point of two quads (p, a, x, b) and (p, b, y, a) goes, and
-  // the two quads become (a, x, b, y).
-  const auto boundary_count = static_cast<Index>(point_of.size());
-  for (bool again = true; again;) {
-    again = false;
-    std::vector<std::vector<std::size_t>> around(tri.points.size());
-    for (std::size_t q = 0; q < quads.size(); ++q)
-      for (const Index v : quads[q]) around[v].push_back(q);
-    for (Index p = boundary_count; p < tri.points.size() && !again; ++p) {
-      if (around[p].size() != 2) continue;
-      auto rotate_to = [&](std::array<Index, 4> q) {
-        while (q[0] != p) std::rotate(q.begin(), q.begin() + 1, q.end());
-        return q;
-      };
-      const auto q1 = rotate_to(quads[around[p][0]]), q2 = rotate_to(quads[around[p][1]]);
-      if (q1[1] != q2[3] || q1[3] != q2[1]) continue;
-      quads[around[p][0]] = {q1[1], q1[2], q1[3], q2[2]};
-      quads.erase(quads.begin() + static_cast<std::ptrdiff_t>(around[p][1]));
-      again = true;
-    }
-  }
   std::vector<Index> mesh_id(tri.points.size(), kInvalidIndex);
   for (Index i = 0; i < boundary_count; ++i) mesh_id[i] = point_of[i];
   for (const auto& q : quads) {
