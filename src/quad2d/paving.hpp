@@ -79,6 +79,8 @@ struct GrowingMesh {
   }
   /// Moves every quad of point `from` to point `to` (a seam): `from` is left unused.
   void merge_point(Index from, Index to);
+  /// Rebuilds the point -> quad records, skipping removed quads (first index invalid).
+  void rebuild_records();
 };
 
 /// Uniform grid over the part's bounding box holding front edges (by their start
@@ -161,6 +163,9 @@ class Paver {
   /// Distance from p to the nearest front edge within `radius`, ignoring edges incident
   /// to the points in `ignore`; `radius` when there is none.
   double clearance(const Vec2& p, double radius, std::span<const Index> ignore);
+  /// Distance from the segment ab to the nearest front point within `radius`, ignoring
+  /// the points in `ignore`; `radius` when there is none.
+  double segment_clearance(const Vec2& a, const Vec2& b, double radius, std::span<const Index> ignore);
   /// Is any front point (other than the quad's) strictly inside the convex quad?
   bool point_inside(const std::array<Vec2, 4>& q, std::span<const Index> ignore);
   /// Adds a quad whose existing nodes form one chain of front edges; new points are
@@ -199,6 +204,8 @@ class Paver {
   /// Pattern search maximising the minimum scaled Jacobian of the quads around p.
   bool optimize_point(Index p);
   void final_smoothing();
+  /// Removes every interior point of valence 2 by merging its two quads.
+  void collapse_doublets();
 
   void emit_quad(const std::array<Index, 4>& q);
 

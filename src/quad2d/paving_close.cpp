@@ -374,7 +374,8 @@ void Paver::fallback(Index loop) {
                             std::to_string(pos(loops_[loop].head).y()) + ")";
   const auto boundary_count = static_cast<Index>(point_of.size());
   RegionTriangulation tri;
-  std::vector<std::array<Index, 4>> quads;  // in triangulation numbering
+  std::vector<std::array<Index, 4>> quads, best;  // in triangulation numbering
+  std::vector<Vec2> best_points;
   bool done = false;
   for (const double factor : {1.0, 0.75, 0.55, 0.4, 0.3, 1.5, 0.0}) {
     try {
@@ -442,14 +443,19 @@ void Paver::fallback(Index loop) {
       for (const Index v : q)
         if (v < boundary_count) ++added[v];
     }
-    for (Index i = 0; i < boundary_count && ok; ++i)
-      if (makes_doublet(point_of[i], added[i])) ok = false;
-    if (ok) {
+    if (!ok) continue;
+    bool doublet = false;
+    for (Index i = 0; i < boundary_count; ++i) doublet |= makes_doublet(point_of[i], added[i]);
+    if (!done || !doublet) {
+      best = quads;
+      best_points = tri.points;
       done = true;
-      break;
     }
+    if (!doublet) break;  // else keep looking; the doublets are collapsed at the end
   }
-  if (!done) throw Error(where + " could not be closed: no perfect matching of its triangulation without doublets");
+  if (!done) throw Error(where + " could not be closed: no perfect matching of its triangulation");
+  quads = std::move(best);
+  tri.points = std::move(best_points);
 
   std::vector<Index> mesh_id(tri.points.size(), kInvalidIndex);
   for (Index i = 0; i < boundary_count; ++i) mesh_id[i] = point_of[i];

@@ -86,6 +86,20 @@ void GrowingMesh::merge_point(Index from, Index to) {
   first_record[from] = kInvalidIndex;
 }
 
+void GrowingMesh::rebuild_records() {
+  std::fill(first_record.begin(), first_record.end(), kInvalidIndex);
+  record_quad.clear();
+  record_next.clear();
+  for (Index id = 0; id < quads.size(); ++id) {
+    if (quads[id][0] == kInvalidIndex) continue;
+    for (const Index p : quads[id]) {
+      record_quad.push_back(id);
+      record_next.push_back(first_record[p]);
+      first_record[p] = static_cast<Index>(record_quad.size() - 1);
+    }
+  }
+}
+
 // ---------------------------------------------------------------------------
 
 void EdgeGrid::init(const BoundingBox2& box, double cell, std::size_t expected_points) {
@@ -219,6 +233,21 @@ double Paver::clearance(const Vec2& p, double radius, std::span<const Index> ign
   return best;
 }
 
+double Paver::segment_clearance(const Vec2& a, const Vec2& b, double radius, std::span<const Index> ignore) {
+  double best = radius;
+  const Vec2 r(radius, radius);
+  grid_.visit(
+      a.cwiseMin(b) - r, a.cwiseMax(b) + r, [this](Index n, Index m) { return edge_live(n, m); },
+      [&](Index n, Index) {
+        const Index u = node_point_[n];
+        for (const Index i : ignore)
+          if (u == i) return true;
+        best = std::min(best, point_segment_distance(mesh_.points[u], a, b));
+        return true;
+      });
+  return best;
+}
+
 bool Paver::point_inside(const std::array<Vec2, 4>& q, std::span<const Index> ignore) {
   Vec2 lo = q[0], hi = q[0];
   for (const Vec2& c : q) {
@@ -332,6 +361,11 @@ bool Paver::try_quad(const std::array<Slot, 4>& slots, double min_quality, doubl
   for (int t = k + 1; t < 4; ++t) {
     const int a = (r + t) % 4;
     if (clearance(q[a], min_clearance, ignore) < min_clearance) return false;
+  }
+  // ... and no front point close to a new edge.
+  for (int t = k; t < 4; ++t) {
+    const int a = (r + t) % 4, b = (r + t + 1) % 4;
+    if (segment_clearance(q[a], q[b], 0.5 * min_clearance, ignore) < 0.5 * min_clearance) return false;
   }
   if (point_inside(q, ignore)) return false;
   // Never leave a loop of 4 that is not a decent quad.

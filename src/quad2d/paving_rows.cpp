@@ -387,6 +387,7 @@ bool Paver::apply_chord(Index a, Index b, int interior, bool join) {
   if (!(sb > 0.2 && sb < interior_angle(b) - 0.2)) return false;
   if (segment_blocked(pa, pb, qa, qb)) return false;
   const double spacing = dir.norm() / (interior + 1);
+  if (segment_clearance(pa, pb, 0.3 * spacing, std::array<Index, 2>{qa, qb}) < 0.3 * spacing) return false;
   std::vector<Vec2> cp(static_cast<std::size_t>(interior));
   for (int t = 0; t < interior; ++t) {
     cp[t] = pa + dir * (static_cast<double>(t + 1) / (interior + 1));

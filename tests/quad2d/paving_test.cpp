@@ -140,6 +140,11 @@ std::vector<Vec2> wobbly(int n, double radius, std::uint64_t seed, double amplit
     phase[k] = 2 * std::numbers::pi * rnd.next();
     amp[k] = amplitude * rnd.next() / (1 + k);
   }
+  // Keep the radius above 30% (the curve stays star-shaped around c with room inside).
+  double total = noise / 2;
+  for (const double a : amp) total += a;
+  if (total > 0.7)
+    for (double& a : amp) a *= (0.7 - noise / 2) / (total - noise / 2);
   std::vector<Vec2> r;
   for (int i = 0; i < n; ++i) {
     const double t = 2 * std::numbers::pi * i / n * (clockwise ? -1 : 1);
