@@ -105,7 +105,8 @@ PavedPart Paver::run() {
     // A loop bounding its component that makes no progress twice is closed by the
     // fallback; a hole's loop waits for the front around it.
     if (loops_[l].area > 0 && loops_[l].stuck >= 2) {
-      fallback(l);
+      if (!close_with_ring(l)) fallback(l);
+      for (Index k = static_cast<Index>(loops_before); k < loops_.size(); ++k) queue.push_back(k);
       idle = 0;
       continue;
     }
@@ -122,6 +123,7 @@ PavedPart Paver::run() {
     }
   }
   released_.clear();
+  collapse_doublets();
   final_smoothing();
 
   // Output: the input points, then the new points still in use, in creation order.
@@ -137,6 +139,7 @@ PavedPart Paver::run() {
   part.quads.reserve(mesh_.quads.size());
   std::size_t inverted = 0;
   for (const auto& q : mesh_.quads) {
+    if (q[0] == kInvalidIndex) continue;  // merged away (collapse_doublets)
     const auto& P = mesh_.points;
     if (!(scaled_jacobian(P[q[0]], P[q[1]], P[q[2]], P[q[3]]) > 0)) ++inverted;
     part.quads.push_back({remap[q[0]], remap[q[1]], remap[q[2]], remap[q[3]]});

@@ -72,8 +72,15 @@ struct GrowingMesh {
   void for_each_quad(Index p, F&& f) const {
     for (Index r = first_record[p]; r != kInvalidIndex; r = record_next[r]) f(record_quad[r]);
   }
+  int quad_count(Index p) const {
+    int c = 0;
+    for (Index r = first_record[p]; r != kInvalidIndex; r = record_next[r]) ++c;
+    return c;
+  }
   /// Moves every quad of point `from` to point `to` (a seam): `from` is left unused.
   void merge_point(Index from, Index to);
+  /// Rebuilds the point -> quad records, skipping removed quads (first index invalid).
+  void rebuild_records();
 };
 
 /// Uniform grid over the part's bounding box holding front edges (by their start
@@ -144,6 +151,11 @@ class Paver {
   void kill_node(Index n);
   const Vec2& pos(Index node) const { return mesh_.points[node_point_[node]]; }
   double interior_angle(Index node) const;
+  /// Would point p, leaving the front with `added` more quads, be an interior point of
+  /// valence below 3 (a doublet that no smoothing can fix)?
+  bool makes_doublet(Index p, int added) const {
+    return p >= mesh_.fixed_count && point_fronts_[p] == 1 && mesh_.quad_count(p) + added < 3;
+  }
   bool edge_live(Index node, Index next) const { return node_alive_[node] && node_next_[node] == next; }
   /// Does the segment ab cross a front edge not incident to points pa / pb
   /// (kInvalidIndex: a new point)?
@@ -151,6 +163,9 @@ class Paver {
   /// Distance from p to the nearest front edge within `radius`, ignoring edges incident
   /// to the points in `ignore`; `radius` when there is none.
   double clearance(const Vec2& p, double radius, std::span<const Index> ignore);
+  /// Distance from the segment ab to the nearest front point within `radius`, ignoring
+  /// the points in `ignore`; `radius` when there is none.
+  double segment_clearance(const Vec2& a, const Vec2& b, double radius, std::span<const Index> ignore);
   /// Is any front point (other than the quad's) strictly inside the convex quad?
   bool point_inside(const std::array<Vec2, 4>& q, std::span<const Index> ignore);
   /// Adds a quad whose existing nodes form one chain of front edges; new points are
@@ -173,6 +188,9 @@ class Paver {
 
   // --- templates and fallback (paving_close.cpp)
   bool close_with_template(Index loop);
+  /// A ring of quads inside a star-shaped loop whose inner loop (a regular polygon for
+  /// small loops, a shrunk copy otherwise) is left to the front.
+  bool close_with_ring(Index loop);
   void fallback(Index loop);
   bool contains_open_hole(Index loop) const;
   bool step(Index loop);
@@ -186,6 +204,8 @@ class Paver {
   /// Pattern search maximising the minimum scaled Jacobian of the quads around p.
   bool optimize_point(Index p);
   void final_smoothing();
+  /// Removes every interior point of valence 2 by merging its two quads.
+  void collapse_doublets();
 
   void emit_quad(const std::array<Index, 4>& q);
 

@@ -105,26 +105,31 @@ class TemplateSearch {
     }
   }
 
-  /// Optimises the interior points of every tiling and returns the best valid one.
+  /// Scores every tiling after a quick placement of its interior points, optimises
+  /// the most promising ones fully, and returns the best valid one.
   const Tiling* best(double polygon_area, double& best_min) {
+    std::vector<std::pair<double, std::size_t>> quick;
+    for (std::size_t k = 0; k < tilings_.size(); ++k) {
+      Tiling& t = tilings_[k];
+      for (int sweep = 0; sweep < 2 && !t.extra.empty(); ++sweep)
+        for (std::size_t e = 0; e < t.extra.size(); ++e) optimize(t, static_cast<int>(n_ + e), 0);
+      double worst = 0;
+      quick.emplace_back(score(t, polygon_area, worst), k);
+    }
+    std::sort(quick.begin(), quick.end(), [](const auto& x, const auto& y) {
+      return x.first > y.first || (x.first == y.first && x.second < y.second);
+    });
     const Tiling* winner = nullptr;
     double best_score = -1e300;
     best_min = -1;
-    for (Tiling& t : tilings_) {
+    for (std::size_t r = 0; r < quick.size() && r < 4; ++r) {
+      Tiling& t = tilings_[quick[r].second];
       for (int sweep = 0; sweep < 4 && !t.extra.empty(); ++sweep)
-        for (std::size_t e = 0; e < t.extra.size(); ++e) optimize(t, static_cast<int>(n_ + e));
-      double area = 0, worst = 1, total = 0;
-      for (const auto& q : t.quads) {
-        const double sj = scaled_jacobian(at(t, q[0]), at(t, q[1]), at(t, q[2]), at(t, q[3]));
-        worst = std::min(worst, sj);
-        total += sj;
-        area += quad_area(at(t, q[0]), at(t, q[1]), at(t, q[2]), at(t, q[3]));
-      }
-      if (worst <= 0.02 || std::abs(area - polygon_area) > 1e-9 * std::abs(polygon_area) + 1e-300) continue;
-      // Fewer interior points (fewer singular vertices) at equal quality.
-      const double score = worst + 0.5 * total / static_cast<double>(t.quads.size()) - 0.02 * t.extra.size();
-      if (score > best_score) {
-        best_score = score;
+        for (std::size_t e = 0; e < t.extra.size(); ++e) optimize(t, static_cast<int>(n_ + e), 12);
+      double worst = 0;
+      const double s = score(t, polygon_area, worst);
+      if (s > best_score && worst > 0.02) {
+        best_score = s;
         best_min = worst;
         winner = &t;
       }
@@ -154,7 +159,21 @@ class TemplateSearch {
     }
     return worst;
   }
-  void optimize(Tiling& t, int ref) {
+  /// min + half the mean scaled Jacobian, less a little per interior point (fewer
+  /// singular vertices at equal quality); -1e300 when the tiling is not valid.
+  double score(const Tiling& t, double polygon_area, double& worst) const {
+    double area = 0, total = 0;
+    worst = 1;
+    for (const auto& q : t.quads) {
+      const double sj = scaled_jacobian(at(t, q[0]), at(t, q[1]), at(t, q[2]), at(t, q[3]));
+      worst = std::min(worst, sj);
+      total += sj;
+      area += quad_area(at(t, q[0]), at(t, q[1]), at(t, q[2]), at(t, q[3]));
+    }
+    if (worst <= 0.02 || std::abs(area - polygon_area) > 1e-9 * std::abs(polygon_area) + 1e-300) return -1e300;
+    return worst + 0.5 * total / static_cast<double>(t.quads.size()) - 0.02 * static_cast<double>(t.extra.size());
+  }
+  void optimize(Tiling& t, int ref, int iterations) {
     Vec2& p = t.extra[ref - n_];
     // Start from the mean of the ideal parallelogram points of the quads around it.
     Vec2 ideal(0, 0);
@@ -178,7 +197,7 @@ class TemplateSearch {
       now = cand;
     }
     double step = 0.1 * len / count;
-    for (int it = 0; it < 12; ++it) {
+    for (int it = 0; it < iterations; ++it) {
       bool improved = false;
       for (const Vec2& d : {Vec2(1, 0), Vec2(-1, 0), Vec2(0, 1), Vec2(0, -1)}) {
         const double q = quality_around(t, ref, p + step * d);
@@ -238,10 +257,31 @@ bool Paver::close_with_template(Index loop) {
   TemplateSearch search(boundary);
   std::vector<int> poly(n);
   for (std::size_t i = 0; i < n; ++i) poly[i] = static_cast<int>(i);
-  search.enumerate({poly}, {}, true);
+  // Chords and fans first; chords through an interior point only when those are poor.
+  search.enumerate({poly}, {}, false);
   double worst = 0;
   const Tiling* t = search.best(loops_[loop].area, worst);
+  if (n >= 4 && (t == nullptr || worst < 0.75)) {
+    TemplateSearch wider(boundary);
+    wider.enumerate({poly}, {}, true);
+    double wider_worst = 0;
+    const Tiling* w = wider.best(loops_[loop].area, wider_worst);
+    if (w != nullptr && (t == nullptr || wider_worst > worst)) {
+      search = std::move(wider);
+      t = search.best(loops_[loop].area, worst);
+    }
+  }
   if (t == nullptr) return false;
+  {
+    // No interior point of valence below 3 (a doublet).
+    std::vector<int> valence(n + t->extra.size(), 0);
+    for (const auto& q : t->quads)
+      for (const int v : q) ++valence[v];
+    for (std::size_t i = 0; i < n; ++i)
+      if (makes_doublet(pts[i], valence[i])) return false;
+    for (std::size_t e = 0; e < t->extra.size(); ++e)
+      if (valence[n + e] < 3) return false;
+  }
   std::vector<Index> extra(t->extra.size());
   for (std::size_t e = 0; e < extra.size(); ++e) extra[e] = mesh_.add_point(t->extra[e]);
   for (const auto& q : t->quads) {
@@ -253,6 +293,58 @@ bool Paver::close_with_template(Index loop) {
   for (const Index e : extra) released_.push_back(e);
   loops_[loop].alive = false;
   loops_[loop].size = 0;
+  ++stats_.templates;
+  return true;
+}
+
+bool Paver::close_with_ring(Index loop) {
+  if (contains_open_hole(loop)) return false;
+  const std::vector<Index> nodes = loop_nodes(loop);
+  const std::size_t n = nodes.size();
+  Vec2 c(0, 0);
+  for (const Index v : nodes) c += pos(v) / static_cast<double>(n);
+  double r_min = 1e300;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2 a = pos(nodes[i]) - c, b = pos(nodes[(i + 1) % n]) - c;
+    if (!(cross(a, b) > 1e-9 * a.norm() * b.norm())) return false;  // not star-shaped from c
+    r_min = std::min(r_min, a.norm());
+  }
+  std::vector<Vec2> inner(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2 a = pos(nodes[i]) - c;
+    inner[i] = n <= 8 ? c + 0.5 * r_min * a.normalized() : c + 0.6 * a;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t j = (i + 1) % n;
+    if (scaled_jacobian(pos(nodes[i]), pos(nodes[j]), inner[j], inner[i]) < 0.05) return false;
+  }
+  std::vector<Index> pts(n);
+  for (std::size_t i = 0; i < n; ++i) pts[i] = mesh_.add_point(inner[i]);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t j = (i + 1) % n;
+    emit_quad({node_point_[nodes[i]], node_point_[nodes[j]], pts[j], pts[i]});
+  }
+  for (const Index v : nodes) kill_node(v);
+  loops_[loop].alive = false;
+  loops_[loop].size = 0;
+  const auto id = static_cast<Index>(loops_.size());
+  Loop fresh;
+  fresh.alive = true;
+  fresh.size = static_cast<Index>(n);
+  fresh.area = signed_area(inner);
+  Index first = kInvalidIndex, last = kInvalidIndex;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Index f = new_node(pts[i], id);
+    if (first == kInvalidIndex) {
+      first = f;
+    } else {
+      set_next(last, f);
+    }
+    last = f;
+  }
+  set_next(last, first);
+  fresh.head = first;
+  loops_.push_back(fresh);
   ++stats_.templates;
   return true;
 }
@@ -280,10 +372,12 @@ void Paver::fallback(Index loop) {
   const std::string where = "paving: a front loop of " + std::to_string(loops_[loop].size) + " nodes near (" +
                             std::to_string(pos(loops_[loop].head).x()) + ", " +
                             std::to_string(pos(loops_[loop].head).y()) + ")";
+  const auto boundary_count = static_cast<Index>(point_of.size());
   RegionTriangulation tri;
-  std::vector<Index> mate;
+  std::vector<std::array<Index, 4>> quads, best;  // in triangulation numbering
+  std::vector<Vec2> best_points;
   bool done = false;
-  for (const double factor : {1.0, 0.75, 1.5, 0.0}) {
+  for (const double factor : {1.0, 0.75, 0.55, 0.4, 0.3, 1.5, 0.0}) {
     try {
       tri = triangulate_region(region, {.steiner_spacing = factor * size_});
     } catch (const Error& e) {
@@ -307,37 +401,74 @@ void Paver::fallback(Index loop) {
     boost::edmonds_maximum_cardinality_matching(graph, &match[0]);
     const auto null = boost::graph_traits<decltype(graph)>::null_vertex();
     if (std::any_of(match.begin(), match.end(), [null](auto v) { return v == null; })) continue;
-    mate.assign(t, kInvalidIndex);
-    for (Index f = 0; f < t; ++f) mate[f] = static_cast<Index>(match[f]);
-    done = true;
-    break;
-  }
-  if (!done) throw Error(where + " could not be closed: no perfect matching of its triangulation");
-
-  std::vector<Index> mesh_id(tri.points.size());
-  for (std::size_t i = 0; i < tri.points.size(); ++i) {
-    if (i < point_of.size()) {
-      mesh_id[i] = point_of[i];
-    } else {
-      mesh_id[i] = mesh_.add_point(tri.points[i]);
-      released_.push_back(mesh_id[i]);
-    }
-  }
-  for (Index f = 0; f < tri.triangles.size(); ++f) {
-    const Index g = mate[f];
-    if (g < f) continue;
-    const auto& t1 = tri.triangles[f];
-    const auto& t2 = tri.triangles[g];
-    // t1 = (x, y, z) with the shared edge x -> y; t2 holds y -> x and its third node w.
-    for (int j = 0; j < 3; ++j) {
-      const Index x = t1[j], y = t1[(j + 1) % 3], z = t1[(j + 2) % 3];
-      for (int k = 0; k < 3; ++k) {
-        if (t2[k] == y && t2[(k + 1) % 3] == x) {
-          const Index w = t2[(k + 2) % 3];
-          emit_quad({mesh_id[x], mesh_id[w], mesh_id[y], mesh_id[z]});
-        }
+    quads.clear();
+    for (Index f = 0; f < t; ++f) {
+      const auto g = static_cast<Index>(match[f]);
+      if (g < f) continue;
+      const auto& t1 = tri.triangles[f];
+      const auto& t2 = tri.triangles[g];
+      // t1 = (x, y, z) with the shared edge x -> y; t2 holds y -> x and its third node w.
+      for (int j = 0; j < 3; ++j) {
+        const Index x = t1[j], y = t1[(j + 1) % 3], z = t1[(j + 2) % 3];
+        for (int k = 0; k < 3; ++k)
+          if (t2[k] == y && t2[(k + 1) % 3] == x) quads.push_back({x, t2[(k + 2) % 3], y, z});
       }
     }
+    // Doublets: an interior point of two quads (p, a, x, b) and (p, b, y, a) goes, and
+    // the two quads become (a, x, b, y).
+    for (bool again = true; again;) {
+      again = false;
+      std::vector<std::vector<std::size_t>> around(tri.points.size());
+      for (std::size_t q = 0; q < quads.size(); ++q)
+        for (const Index v : quads[q]) around[v].push_back(q);
+      for (Index p = boundary_count; p < tri.points.size() && !again; ++p) {
+        if (around[p].size() != 2) continue;
+        auto rotate_to = [&](std::array<Index, 4> q) {
+          while (q[0] != p) std::rotate(q.begin(), q.begin() + 1, q.end());
+          return q;
+        };
+        const auto q1 = rotate_to(quads[around[p][0]]), q2 = rotate_to(quads[around[p][1]]);
+        if (q1[1] != q2[3] || q1[3] != q2[1]) continue;
+        quads[around[p][0]] = {q1[1], q1[2], q1[3], q2[2]};
+        quads.erase(quads.begin() + static_cast<std::ptrdiff_t>(around[p][1]));
+        again = true;
+      }
+    }
+    // A free loop point must not end as a doublet, and no quad may be folded.
+    std::vector<int> added(boundary_count, 0);
+    bool ok = true;
+    for (const auto& q : quads) {
+      const auto& P = tri.points;
+      if (!(quad_area(P[q[0]], P[q[1]], P[q[2]], P[q[3]]) > 0)) ok = false;
+      for (const Index v : q)
+        if (v < boundary_count) ++added[v];
+    }
+    if (!ok) continue;
+    bool doublet = false;
+    for (Index i = 0; i < boundary_count; ++i) doublet |= makes_doublet(point_of[i], added[i]);
+    if (!done || !doublet) {
+      best = quads;
+      best_points = tri.points;
+      done = true;
+    }
+    if (!doublet) break;  // else keep looking; the doublets are collapsed at the end
+  }
+  if (!done) throw Error(where + " could not be closed: no perfect matching of its triangulation");
+  quads = std::move(best);
+  tri.points = std::move(best_points);
+
+  std::vector<Index> mesh_id(tri.points.size(), kInvalidIndex);
+  for (Index i = 0; i < boundary_count; ++i) mesh_id[i] = point_of[i];
+  for (const auto& q : quads) {
+    std::array<Index, 4> mq{};
+    for (int j = 0; j < 4; ++j) {
+      if (mesh_id[q[j]] == kInvalidIndex) {
+        mesh_id[q[j]] = mesh_.add_point(tri.points[q[j]]);
+        released_.push_back(mesh_id[q[j]]);
+      }
+      mq[j] = mesh_id[q[j]];
+    }
+    emit_quad(mq);
   }
   for (const Index l : loop_ids) {
     for (const Index v : loop_nodes(l)) kill_node(v);

@@ -86,6 +86,20 @@ void GrowingMesh::merge_point(Index from, Index to) {
   first_record[from] = kInvalidIndex;
 }
 
+void GrowingMesh::rebuild_records() {
+  std::fill(first_record.begin(), first_record.end(), kInvalidIndex);
+  record_quad.clear();
+  record_next.clear();
+  for (Index id = 0; id < quads.size(); ++id) {
+    if (quads[id][0] == kInvalidIndex) continue;
+    for (const Index p : quads[id]) {
+      record_quad.push_back(id);
+      record_next.push_back(first_record[p]);
+      first_record[p] = static_cast<Index>(record_quad.size() - 1);
+    }
+  }
+}
+
 // ---------------------------------------------------------------------------
 
 void EdgeGrid::init(const BoundingBox2& box, double cell, std::size_t expected_points) {
@@ -219,6 +233,21 @@ double Paver::clearance(const Vec2& p, double radius, std::span<const Index> ign
   return best;
 }
 
+double Paver::segment_clearance(const Vec2& a, const Vec2& b, double radius, std::span<const Index> ignore) {
+  double best = radius;
+  const Vec2 r(radius, radius);
+  grid_.visit(
+      a.cwiseMin(b) - r, a.cwiseMax(b) + r, [this](Index n, Index m) { return edge_live(n, m); },
+      [&](Index n, Index) {
+        const Index u = node_point_[n];
+        for (const Index i : ignore)
+          if (u == i) return true;
+        best = std::min(best, point_segment_distance(mesh_.points[u], a, b));
+        return true;
+      });
+  return best;
+}
+
 bool Paver::point_inside(const std::array<Vec2, 4>& q, std::span<const Index> ignore) {
   Vec2 lo = q[0], hi = q[0];
   for (const Vec2& c : q) {
@@ -293,6 +322,8 @@ bool Paver::try_quad(const std::array<Slot, 4>& slots, double min_quality, doubl
 
   if (k == 4) {
     if (loops_[loop].size != 4) return false;
+    for (int j = 0; j < 4; ++j)
+      if (makes_doublet(qp[j], 1)) return false;
     emit_quad(qp);
     for (int j = 0; j < 4; ++j) kill_node(fn[j]);
     loops_[loop].alive = false;
@@ -301,13 +332,22 @@ bool Paver::try_quad(const std::array<Slot, 4>& slots, double min_quality, doubl
   }
 
   const Index e0 = fn[r], ek = fn[(r + k) % 4];
+  for (int t = 1; t < k; ++t)
+    if (makes_doublet(qp[(r + t) % 4], 1)) return false;
   // Wedge test: the quad's corner at each chain end must fit in the front's angle there.
   const Vec2& p0 = q[r];
   const double corner0 = ccw_angle(q[(r + 1) % 4] - p0, q[(r + 3) % 4] - p0);
-  if (corner0 >= interior_angle(e0) - 1e-9) return false;
+  const double angle0 = interior_angle(e0);
+  if (corner0 >= angle0 - 1e-9) return false;
+  // No sliver of front left at either end: the angle that remains is at least 30°
+  // unless it was that sharp already.
+  constexpr double kMinLeft = kPi / 6;
+  if (angle0 - corner0 < kMinLeft && angle0 - corner0 < 0.9 * angle0) return false;
   const Vec2& pk = q[(r + k) % 4];
   const double cornerk = ccw_angle(q[(r + k + 1) % 4] - pk, q[(r + k + 3) % 4] - pk);
-  if (cornerk >= interior_angle(ek) - 1e-9) return false;
+  const double anglek = interior_angle(ek);
+  if (cornerk >= anglek - 1e-9) return false;
+  if (anglek - cornerk < kMinLeft && anglek - cornerk < 0.9 * anglek) return false;
 
   // The new edges (ek -> new points -> e0) must cross no front edge.
   for (int t = k; t < 4; ++t) {
@@ -321,6 +361,11 @@ bool Paver::try_quad(const std::array<Slot, 4>& slots, double min_quality, doubl
   for (int t = k + 1; t < 4; ++t) {
     const int a = (r + t) % 4;
     if (clearance(q[a], min_clearance, ignore) < min_clearance) return false;
+  }
+  // ... and no front point close to a new edge.
+  for (int t = k; t < 4; ++t) {
+    const int a = (r + t) % 4, b = (r + t + 1) % 4;
+    if (segment_clearance(q[a], q[b], 0.5 * min_clearance, ignore) < 0.5 * min_clearance) return false;
   }
   if (point_inside(q, ignore)) return false;
   // Never leave a loop of 4 that is not a decent quad.

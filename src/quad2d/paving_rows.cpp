@@ -333,6 +333,7 @@ bool Paver::seams(Index loop) {
     const Index u = node_prev_[v], w = node_next_[v];
     const Index pu = node_point_[u], pw = node_point_[w];
     if (pu == pw || point_fronts_[pu] != 1 || point_fronts_[pw] != 1) continue;
+    if (makes_doublet(node_point_[v], 0)) continue;
     const bool fu = pu < mesh_.fixed_count, fw = pw < mesh_.fixed_count;
     if (fu && fw) continue;
     const Index keep = fu ? pu : (fw ? pw : std::min(pu, pw));
@@ -386,6 +387,7 @@ bool Paver::apply_chord(Index a, Index b, int interior, bool join) {
   if (!(sb > 0.2 && sb < interior_angle(b) - 0.2)) return false;
   if (segment_blocked(pa, pb, qa, qb)) return false;
   const double spacing = dir.norm() / (interior + 1);
+  if (segment_clearance(pa, pb, 0.3 * spacing, std::array<Index, 2>{qa, qb}) < 0.3 * spacing) return false;
   std::vector<Vec2> cp(static_cast<std::size_t>(interior));
   for (int t = 0; t < interior; ++t) {
     cp[t] = pa + dir * (static_cast<double>(t + 1) / (interior + 1));

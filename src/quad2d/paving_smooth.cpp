@@ -62,7 +62,8 @@ bool Paver::optimize_point(Index p) {
   double step = 0.15 * len / count;
   bool improved_any = false;
   static constexpr double kDiag = 0.70710678118654752;
-  for (int it = 0; it < 16; ++it) {
+  const double smallest = 0.01 * step;
+  for (int it = 0; it < 16 && step > smallest; ++it) {
     bool improved = false;
     for (const Vec2& d : {Vec2(1, 0), Vec2(-1, 0), Vec2(0, 1), Vec2(0, -1), Vec2(kDiag, kDiag), Vec2(-kDiag, -kDiag),
                           Vec2(kDiag, -kDiag), Vec2(-kDiag, kDiag)}) {
@@ -81,11 +82,32 @@ bool Paver::optimize_point(Index p) {
   return improved_any;
 }
 
+void Paver::collapse_doublets() {
+  bool any = false;
+  for (Index p = mesh_.fixed_count; p < mesh_.points.size(); ++p) {
+    if (mesh_.quad_count(p) != 2) continue;
+    const Index r = mesh_.first_record[p];
+    const Index id1 = mesh_.record_quad[r], id2 = mesh_.record_quad[mesh_.record_next[r]];
+    auto rotate_to = [p](std::array<Index, 4> q) {
+      while (q[0] != p) std::rotate(q.begin(), q.begin() + 1, q.end());
+      return q;
+    };
+    const auto q1 = rotate_to(mesh_.quads[id1]), q2 = rotate_to(mesh_.quads[id2]);
+    if (q1[1] != q2[3] || q1[3] != q2[1]) continue;
+    // (p, a, x, b) and (p, b, y, a) become (a, x, b, y).
+    mesh_.quads[id1] = {q1[1], q1[2], q1[3], q2[2]};
+    mesh_.quads[id2] = {kInvalidIndex, kInvalidIndex, kInvalidIndex, kInvalidIndex};
+    mesh_.rebuild_records();
+    any = true;
+  }
+  if (any) collapse_doublets();
+}
+
 void Paver::final_smoothing() {
   const auto total = static_cast<Index>(mesh_.points.size());
   std::vector<std::uint8_t> active(total, 0), next(total, 0);
   for (Index p = mesh_.fixed_count; p < total; ++p) active[p] = 1;
-  const double still = 1e-4 * size_;
+  const double still = 1e-3 * size_;
   for (int sweep = 0; sweep < options_.final_smoothing_iterations; ++sweep) {
     bool any = false;
     std::fill(next.begin(), next.end(), 0);
@@ -105,8 +127,9 @@ void Paver::final_smoothing() {
   for (int pass = 0; pass < 3; ++pass) {
     bool any = false;
     for (const auto& q : mesh_.quads) {
+      if (q[0] == kInvalidIndex) continue;
       const auto& P = mesh_.points;
-      if (scaled_jacobian(P[q[0]], P[q[1]], P[q[2]], P[q[3]]) >= 0.8) continue;
+      if (scaled_jacobian(P[q[0]], P[q[1]], P[q[2]], P[q[3]]) >= 0.7) continue;
       for (const Index v : q) any |= optimize_point(v);
     }
     if (!any) break;

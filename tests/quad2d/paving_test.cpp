@@ -119,6 +119,100 @@ std::vector<Vec2> circle(int n, double radius, Vec2 c = {0, 0}, bool clockwise =
   return r;
 }
 
+/// Deterministic pseudo-random numbers in [0, 1) (SplitMix64).
+struct Random {
+  std::uint64_t state;
+  double next() {
+    std::uint64_t z = (state += 0x9E3779B97F4A7C15ULL);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    return static_cast<double>((z ^ (z >> 31)) >> 11) * (1.0 / 9007199254740992.0);
+  }
+};
+
+/// A closed curve r(t) = radius * (1 + sum of a few harmonics) + point noise, sampled
+/// at n points (clockwise for holes).
+std::vector<Vec2> wobbly(int n, double radius, std::uint64_t seed, double amplitude, double noise, Vec2 c = {0, 0},
+                         bool clockwise = false) {
+  Random rnd{seed};
+  std::array<double, 6> phase{}, amp{};
+  for (int k = 0; k < 6; ++k) {
+    phase[k] = 2 * std::numbers::pi * rnd.next();
+    amp[k] = amplitude * rnd.next() / (1 + k);
+  }
+  // Keep the radius above 30% (the curve stays star-shaped around c with room inside).
+  double total = noise / 2;
+  for (const double a : amp) total += a;
+  if (total > 0.7)
+    for (double& a : amp) a *= (0.7 - noise / 2) / (total - noise / 2);
+  std::vector<Vec2> r;
+  for (int i = 0; i < n; ++i) {
+    const double t = 2 * std::numbers::pi * i / n * (clockwise ? -1 : 1);
+    double rr = 1;
+    for (int k = 0; k < 6; ++k) rr += amp[k] * std::sin((k + 2) * t + phase[k]);
+    rr += noise * (rnd.next() - 0.5);
+    r.emplace_back(c.x() + radius * rr * std::cos(t), c.y() + radius * rr * std::sin(t));
+  }
+  return r;
+}
+
+/// Resamples every ring by arc length to about `h` per segment, keeping the total even
+/// (the last ring gets one point more when needed).
+Polygon2 resample(const Polygon2& in, double h) {
+  std::vector<std::vector<Vec2>> rings;
+  std::size_t total = 0;
+  for (std::size_t r = 0; r < in.ring_count(); ++r) {
+    const auto ring = in.ring(r);
+    std::vector<double> acc{0};
+    for (std::size_t i = 0; i < ring.size(); ++i)
+      acc.push_back(acc.back() + (ring[(i + 1) % ring.size()] - ring[i]).norm());
+    const int n = std::max(4, static_cast<int>(std::lround(acc.back() / h)));
+    std::vector<Vec2> out;
+    std::size_t seg = 0;
+    for (int k = 0; k < n; ++k) {
+      const double s = acc.back() * k / n;
+      while (acc[seg + 1] < s) ++seg;
+      const double t = (s - acc[seg]) / std::max(1e-300, acc[seg + 1] - acc[seg]);
+      out.push_back(ring[seg] + t * (ring[(seg + 1) % ring.size()] - ring[seg]));
+    }
+    total += out.size();
+    rings.push_back(std::move(out));
+  }
+  if (total % 2 != 0) {
+    auto& o = rings.back();
+    std::size_t best = 0;
+    for (std::size_t i = 1; i < o.size(); ++i)
+      if ((o[(i + 1) % o.size()] - o[i]).norm() > (o[(best + 1) % o.size()] - o[best]).norm()) best = i;
+    o.insert(o.begin() + static_cast<std::ptrdiff_t>(best) + 1, 0.5 * (o[best] + o[(best + 1) % o.size()]));
+  }
+  Polygon2 out;
+  for (const auto& r : rings) out.add_ring(r);
+  return out;
+}
+
+std::vector<Vec2> reversed(std::vector<Vec2> r) {
+  std::reverse(r.begin(), r.end());
+  return r;
+}
+
+/// Polygon through the given corners, every side split into segments of about h.
+std::vector<Vec2> polyline(const std::vector<Vec2>& corners, double h) {
+  std::vector<Vec2> r;
+  for (std::size_t i = 0; i < corners.size(); ++i) {
+    const Vec2 a = corners[i], b = corners[(i + 1) % corners.size()];
+    const int n = std::max(1, static_cast<int>(std::lround((b - a).norm() / h)));
+    for (int k = 0; k < n; ++k) r.push_back(a + (b - a) * (static_cast<double>(k) / n));
+  }
+  return r;
+}
+
+Measured pave_and_check(const char* name, const Polygon2& poly, const PavingOptions& options = {}) {
+  const PavedPart part = pave(poly, options);
+  const Measured m = check_paved(poly, part);
+  report(name, m, part);
+  return m;
+}
+
 TEST(Paving, RectangleIsAPerfectGrid) {
   const Polygon2 poly = ring_polygon(rectangle(20, 12));
   const PavedPart part = pave(poly);
@@ -126,16 +220,178 @@ TEST(Paving, RectangleIsAPerfectGrid) {
   report("rectangle 20x12", m, part);
   EXPECT_EQ(m.quads, 240u);
   EXPECT_NEAR(m.min, 1.0, 1e-12);
+  EXPECT_NEAR(m.avg, 1.0, 1e-12);
   EXPECT_EQ(m.singular, 0u);
+  EXPECT_EQ(part.stats.fallback_loops, 0u);
+}
+
+TEST(Paving, SquareWithSquareHole) {
+  // 12 x 12 square with a 4 x 4 hole in the middle, unit spacing.
+  std::vector<Vec2> hole;
+  for (const Vec2& p : rectangle(4, 4)) hole.push_back(p + Vec2(4, 4));
+  const Polygon2 poly = ring_polygon(rectangle(12, 12), {reversed(hole)});
+  const Measured m = pave_and_check("square with hole", poly);
+  EXPECT_GT(m.min, 0.6);
+  EXPECT_GT(m.avg, 0.95);
 }
 
 TEST(Paving, Disk64) {
   const Polygon2 poly = ring_polygon(circle(64, 10));
-  const PavedPart part = pave(poly);
-  const Measured m = check_paved(poly, part);
-  report("disk 64", m, part);
+  const Measured m = pave_and_check("disk 64", poly);
   EXPECT_GT(m.min, 0.5);
+  EXPECT_GT(m.avg, 0.9);
+}
+
+TEST(Paving, Annulus) {
+  const Polygon2 poly = ring_polygon(circle(64, 10), {circle(32, 5, {0, 0}, true)});
+  const Measured m = pave_and_check("annulus", poly);
+  EXPECT_GT(m.min, 0.5);
+  EXPECT_GT(m.avg, 0.9);
+}
+
+TEST(Paving, LShape) {
+  const Polygon2 poly = ring_polygon(polyline({{0, 0}, {20, 0}, {20, 8}, {8, 8}, {8, 20}, {0, 20}}, 1));
+  const Measured m = pave_and_check("L-shape", poly);
+  EXPECT_GT(m.min, 0.6);
+  EXPECT_GT(m.avg, 0.97);
+}
+
+TEST(Paving, UShape) {
+  const Polygon2 poly =
+      ring_polygon(polyline({{0, 0}, {20, 0}, {20, 16}, {14, 16}, {14, 6}, {6, 6}, {6, 16}, {0, 16}}, 1));
+  const Measured m = pave_and_check("U-shape", poly);
+  EXPECT_GT(m.min, 0.6);
+  EXPECT_GT(m.avg, 0.97);
+}
+
+TEST(Paving, StripOneCellWide) {
+  const Polygon2 poly = ring_polygon(rectangle(30, 1));
+  const Measured m = pave_and_check("strip 30x1", poly);
+  EXPECT_EQ(m.quads, 30u);
+  EXPECT_NEAR(m.min, 1.0, 1e-12);
+}
+
+TEST(Paving, StripTwoCellsWide) {
+  const Polygon2 poly = ring_polygon(rectangle(30, 2));
+  const Measured m = pave_and_check("strip 30x2", poly);
+  EXPECT_EQ(m.quads, 60u);
+  EXPECT_NEAR(m.min, 1.0, 1e-12);
+  EXPECT_EQ(m.singular, 0u);
+}
+
+TEST(Paving, StarWithTwelveSpikes) {
+  std::vector<Vec2> corners;
+  for (int i = 0; i < 24; ++i) {
+    const double t = 2 * std::numbers::pi * i / 24;
+    const double r = i % 2 == 0 ? 20 : 9;
+    corners.emplace_back(r * std::cos(t), r * std::sin(t));
+  }
+  const Polygon2 poly = resample(ring_polygon(polyline(corners, 1)), 1);
+  const Measured m = pave_and_check("star 12 spikes", poly);
+  // The spike tips (about 40°) bound what any mesh can reach there.
+  EXPECT_GT(m.min, 0.3);
+  EXPECT_GT(m.avg, 0.9);
+}
+
+TEST(Paving, NoisyCoastlineWithIsland) {
+  const Polygon2 poly = ring_polygon(wobbly(600, 100, 7, 0.25, 0.01), {wobbly(80, 14, 9, 0.15, 0.01, {30, 20}, true)});
+  const Measured m = pave_and_check("coastline + island", poly, {.size = 2 * std::numbers::pi * 100 / 600});
+  EXPECT_GT(m.min, 0.3);
+  EXPECT_GT(m.avg, 0.9);
+}
+
+TEST(Paving, NonUniformSpacing) {
+  // Bottom side fine, top side coarse: the rows must grade between them.
+  std::vector<Vec2> r;
+  for (int i = 0; i < 24; ++i) r.emplace_back(i * 0.5, 0);
+  for (int j = 0; j < 8; ++j) r.emplace_back(12, j);
+  for (int i = 0; i < 8; ++i) r.emplace_back(12 - 1.5 * i, 8);
+  for (int j = 0; j < 8; ++j) r.emplace_back(0, 8 - j);
+  const Polygon2 poly = ring_polygon(r);
+  const Measured m = pave_and_check("graded spacing", poly);
+  EXPECT_GT(m.min, 0.3);
   EXPECT_GT(m.avg, 0.85);
+}
+
+TEST(Paving, RandomPolygonsNeverFail) {
+  // Star-shaped and non-convex wobbly polygons with smooth and noisy sides, some
+  // with a hole; every one must pave.
+  std::size_t failures = 0, fallbacks = 0, smooth_fallbacks = 0, count = 0;
+  double worst = 1;
+  for (std::uint64_t seed = 1; seed <= 200; ++seed) {
+    Random rnd{seed * 977};
+    const int n = 2 * (20 + static_cast<int>(rnd.next() * 80));
+    const double amplitude = 0.1 + 0.5 * rnd.next();
+    const bool noisy = seed % 3 == 0;
+    const double noise = noisy ? 0.05 : 0.0;
+    Polygon2 poly = ring_polygon(wobbly(n, 20, seed, amplitude, noise));
+    if (seed % 5 == 0) poly.add_ring(wobbly(n / 4 * 2, 3, seed + 1000, 0.1, 0.0, {0, 0}, true));
+    if (poly.points.size() % 2 != 0) continue;
+    ++count;
+    try {
+      const PavedPart part = pave(poly);
+      const Measured m = check_paved(poly, part);
+      worst = std::min(worst, m.min);
+      fallbacks += part.stats.fallback_loops > 0;
+      if (!noisy && part.stats.fallback_loops > 0) ++smooth_fallbacks;
+    } catch (const Error& e) {
+      ++failures;
+      ADD_FAILURE() << "seed " << seed << ": " << e.what();
+    }
+  }
+  std::printf(
+      "[paving] random polygons: %zu paved, %zu failures, %zu needed the fallback (%zu smooth), worst SJ %.3f\n", count,
+      failures, fallbacks, smooth_fallbacks, worst);
+  EXPECT_GE(count, 200u);
+  EXPECT_EQ(failures, 0u);
+  EXPECT_GT(worst, 0);
+}
+
+TEST(Paving, OddPointCountIsInputError) {
+  EXPECT_THROW(pave(ring_polygon(circle(63, 10))), InputError);
+  Polygon2 tiny;
+  tiny.add_ring(std::vector<Vec2>{{0, 0}, {1, 0}});
+  tiny.add_ring(std::vector<Vec2>{{0, 0}, {1, 0}});
+  EXPECT_THROW(pave(tiny), InputError);
+}
+
+TEST(Paving, Deterministic) {
+  const Polygon2 poly = ring_polygon(wobbly(300, 50, 3, 0.3, 0.02), {wobbly(40, 8, 4, 0.1, 0.0, {10, 5}, true)});
+  const PavedPart a = pave(poly), b = pave(poly);
+  ASSERT_EQ(a.points.size(), b.points.size());
+  ASSERT_EQ(a.quads, b.quads);
+  for (std::size_t i = 0; i < a.points.size(); ++i) {
+    EXPECT_EQ(a.points[i].x(), b.points[i].x());
+    EXPECT_EQ(a.points[i].y(), b.points[i].y());
+  }
+}
+
+TEST(Paving, KeyRegionIn32Parts) {
+  const Polygon2 key = make_key_region(2000);
+  double perimeter = 0;
+  for (std::size_t r = 0; r < key.ring_count(); ++r) {
+    const auto ring = key.ring(r);
+    for (std::size_t i = 0; i < ring.size(); ++i) perimeter += (ring[(i + 1) % ring.size()] - ring[i]).norm();
+  }
+  const double h = perimeter / 2000;
+  const Partition partition = partition_region(key, PartitionOptions{.parts = 32});
+  double sum = 0, worst = 1;
+  std::size_t quads = 0, singular = 0, fallbacks = 0;
+  for (std::size_t i = 0; i < partition.parts.size(); ++i) {
+    const Polygon2 poly = resample(partition.parts[i], h);
+    const PavedPart part = pave(poly, {.size = h});
+    const Measured m = check_paved(poly, part);
+    sum += m.avg * static_cast<double>(m.quads);
+    quads += m.quads;
+    worst = std::min(worst, m.min);
+    singular += m.singular;
+    fallbacks += part.stats.fallback_loops;
+  }
+  const double avg = sum / static_cast<double>(quads);
+  std::printf("[paving] Key in %zu parts: %zu quads, SJ avg %.4f min %.4f, %zu singular, %zu fallback loops\n",
+              partition.parts.size(), quads, avg, worst, singular, fallbacks);
+  EXPECT_GT(worst, 0);
+  EXPECT_GE(avg, 0.95);
 }
 
 }  // namespace
