@@ -69,13 +69,19 @@ struct SampledPartition {
   std::vector<std::uint8_t> fixed;               ///< 1 where relaxation may not move it
   /// part -> its loops as a region (outer first) in point indices.
   std::vector<std::vector<std::vector<Index>>> part_loops;
+  /// Per part: the loop positions of its four corners when the part is four-sided
+  /// with equal point counts on opposite sides (a structured grid fits), else all -1.
+  std::vector<std::array<std::int64_t, 4>> part_corners;
   double size = 0;  ///< the target edge length used
 };
 
 /// Samples every curve of the partition with segments of about `size`; separator
-/// curves are sampled once and used by both parts; the segment counts are chosen so
-/// that every part boundary has an even number of points (§3.3.1). Region boundary
-/// curves keep their corners (turning angle above 25°) as samples.
+/// curves are sampled once and used by both parts. Region boundary curves keep their
+/// corners (turning angle above 25°) as samples. The segment counts are chosen
+/// together (interval assignment, an MILP with CBC) so that every part boundary has
+/// an even number of points (§3.3.1) and every four-sided part (four corners below
+/// 135°, no other break outside 150°..225°) has equal counts on opposite sides where
+/// that costs little; if CBC finds nothing, rounding plus a parity repair.
 SampledPartition sample_partition(const Partition& partition, double size);
 
 /// The part's boundary as a Polygon2 for pave(), and the map from its points to

@@ -9,6 +9,8 @@
 // spanning tree of the part adjacency (the outside of the region is the root and
 // absorbs any parity), which changes the fewest curves by one segment each and keeps
 // the spacing close to the requested size.
+#include "quad2d/interval_assignment.hpp"
+
 #include "structmesh/error.hpp"
 #include "structmesh/quad2d.hpp"
 
@@ -25,6 +27,11 @@ namespace {
 // Region boundary vertices that turn by more than this are kept as samples, so the
 // Key's teeth and other sharp features survive resampling.
 constexpr double kCornerTurn = 25.0 * std::numbers::pi / 180.0;
+// Interior angles that make a part four-sided: corners below 135°, every other
+// break between 150° and 225° (a break between 135° and 150° is neither).
+constexpr double kCornerAngle = 0.75 * std::numbers::pi;
+constexpr double kSideAngleMin = 150.0 * std::numbers::pi / 180.0;
+constexpr double kSideAngleMax = 1.25 * std::numbers::pi;
 
 // A curve as pieces between kept vertices: piece i runs from polyline vertex
 // breaks[i] to breaks[i+1] and gets segments[i] segments.
@@ -111,22 +118,12 @@ Vec2 point_at(std::span<const Vec2> points, std::size_t from, std::size_t to, do
   return points[to];
 }
 
-}  // namespace
-
-SampledPartition sample_partition(const Partition& partition, double size) {
-  if (!(size > 0) || !std::isfinite(size)) throw InputError("sample_partition: the element size must be positive");
+// Rounding leaves some parts odd: a T-join on a BFS tree of the graph parts +
+// outside (node `parts`), curves as edges; leaves first, an odd node flips the
+// curve to its parent (the outside absorbs any parity).
+void repair_parity(const Partition& partition, std::vector<CurvePlan>& plans, double size) {
   const std::size_t parts = partition.part_loops.size();
   const std::size_t curves = partition.curves.size();
-
-  std::vector<CurvePlan> plans;
-  plans.reserve(curves);
-  for (const PartitionCurve& curve : partition.curves) {
-    if (curve.vertices.size() < 2) throw Error("sample_partition: a partition curve has fewer than 2 vertices");
-    plans.push_back(plan_curve(partition, curve, size));
-  }
-
-  // Parity per part: the number of boundary points of a part equals the number of
-  // segments on its loops (each curve counted once per side it bounds).
   const auto part_parity = [&]() {
     std::vector<std::uint8_t> odd(parts, 0);
     for (std::size_t p = 0; p < parts; ++p)
@@ -137,9 +134,6 @@ SampledPartition sample_partition(const Partition& partition, double size) {
         }
     return odd;
   };
-
-  // T-join on a BFS tree of the graph parts + outside (node `parts`), curves as
-  // edges; leaves first, an odd node flips the curve to its parent.
   {
     std::vector<std::vector<std::pair<std::size_t, std::size_t>>> adjacent(parts + 1);  // (node, curve)
     for (std::size_t c = 0; c < curves; ++c) {
@@ -189,7 +183,115 @@ SampledPartition sample_partition(const Partition& partition, double size) {
     for (std::size_t p = 0; p < parts; ++p)
       if (check[p]) throw Error("sample_partition: part " + std::to_string(p) + " kept an odd boundary (internal)");
   }
+}
 
+// Interior angle (left side) at the vertex where piece `a` of one curve ends and
+// piece `b` starts, walking each piece forwards or backwards. The directions are
+// chords of length min(size, half the piece), so a zigzag of the CVT separator
+// right at the vertex does not decide the angle.
+double interior_angle(const CurvePlan& a_plan, std::size_t a, bool a_forward, const CurvePlan& b_plan, std::size_t b,
+                      bool b_forward, double size) {
+  const auto along = [&](const CurvePlan& plan, std::size_t piece, bool forward, bool at_start) {
+    const std::size_t from = plan.breaks[piece], to = plan.breaks[piece + 1];
+    const double length = plan.lengths[piece];
+    const double reach = std::min(size, 0.5 * length);
+    // Arc-length position of the vertex and of the chord's other end, in forward terms.
+    const bool vertex_is_from = forward == at_start;
+    const double s_other = vertex_is_from ? reach : length - reach;
+    const Vec2 vertex = vertex_is_from ? plan.polyline[from] : plan.polyline[to];
+    const Vec2 other = point_at(plan.polyline, from, to, s_other);
+    return std::pair<Vec2, Vec2>{vertex, other};
+  };
+  const auto [a_vertex, a_other] = along(a_plan, a, a_forward, false);
+  const auto [b_vertex, b_other] = along(b_plan, b, b_forward, true);
+  const Vec2 in = a_vertex - a_other, out = b_other - b_vertex;
+  const double turn = std::atan2(in.x() * out.y() - in.y() * out.x(), in.dot(out));
+  return std::numbers::pi - turn;
+}
+
+}  // namespace
+
+SampledPartition sample_partition(const Partition& partition, double size) {
+  if (!(size > 0) || !std::isfinite(size)) throw InputError("sample_partition: the element size must be positive");
+  const std::size_t parts = partition.part_loops.size();
+  const std::size_t curves = partition.curves.size();
+
+  std::vector<CurvePlan> plans;
+  plans.reserve(curves);
+  for (const PartitionCurve& curve : partition.curves) {
+    if (curve.vertices.size() < 2) throw Error("sample_partition: a partition curve has fewer than 2 vertices");
+    plans.push_back(plan_curve(partition, curve, size));
+  }
+
+  // Edges: the pieces of the curves (region boundary curves split at corners), the
+  // unknowns of the interval assignment; each part loop as a sequence of edges.
+  std::vector<std::size_t> edge_offset(curves + 1, 0);
+  for (std::size_t c = 0; c < curves; ++c) edge_offset[c + 1] = edge_offset[c] + plans[c].segments.size();
+  const std::size_t edge_count = edge_offset[curves];
+  struct LoopEdge {
+    std::size_t curve, piece;
+    bool forward;
+  };
+  std::vector<std::vector<std::vector<LoopEdge>>> loop_edges(parts);
+  for (std::size_t p = 0; p < parts; ++p)
+    for (const auto& loop_refs : partition.part_loops[p]) {
+      std::vector<LoopEdge> loop;
+      for (const std::int64_t ref : loop_refs) {
+        const bool forward = ref >= 0;
+        const std::size_t c = forward ? static_cast<std::size_t>(ref) : static_cast<std::size_t>(-ref - 1);
+        const std::size_t pieces = plans[c].segments.size();
+        for (std::size_t i = 0; i < pieces; ++i) loop.push_back({c, forward ? i : pieces - 1 - i, forward});
+      }
+      loop_edges[p].push_back(std::move(loop));
+    }
+  const auto edge_id = [&](const LoopEdge& e) { return static_cast<Index>(edge_offset[e.curve] + e.piece); };
+
+  // Four-sided parts: one loop, exactly four corners (interior angle < 135°) and every
+  // other break between 150° and 225°, where the part can be a structured grid.
+  quad2d::IntervalProblem problem;
+  problem.ideal.resize(edge_count);
+  problem.minimum.assign(edge_count, 1);
+  for (std::size_t c = 0; c < curves; ++c)
+    for (std::size_t i = 0; i < plans[c].segments.size(); ++i) {
+      problem.ideal[edge_offset[c] + i] = plans[c].lengths[i] / size;
+      if (plans[c].closed && plans[c].segments.size() == 1) problem.minimum[edge_offset[c] + i] = 3;
+    }
+  problem.part_edges.resize(parts);
+  std::vector<std::array<std::size_t, 4>> corner_edges;  // per four_sided entry: loop edge index of each corner
+  for (std::size_t p = 0; p < parts; ++p) {
+    for (const auto& loop : loop_edges[p])
+      for (const LoopEdge& e : loop) problem.part_edges[p].push_back(edge_id(e));
+    if (loop_edges[p].size() != 1 || loop_edges[p][0].size() < 4) continue;
+    const std::vector<LoopEdge>& loop = loop_edges[p][0];
+    std::vector<std::size_t> corners;
+    bool ambiguous = false;
+    for (std::size_t k = 0; k < loop.size(); ++k) {
+      const LoopEdge& in = loop[(k + loop.size() - 1) % loop.size()];
+      const double angle = interior_angle(plans[in.curve], in.piece, in.forward, plans[loop[k].curve], loop[k].piece,
+                                          loop[k].forward, size);
+      if (angle < kCornerAngle)
+        corners.push_back(k);
+      else if (angle < kSideAngleMin || angle > kSideAngleMax)
+        ambiguous = true;
+    }
+    if (ambiguous || corners.size() != 4) continue;
+    quad2d::IntervalProblem::FourSided four;
+    four.part = p;
+    for (int side = 0; side < 4; ++side)
+      for (std::size_t k = corners[side]; k != corners[(side + 1) % 4]; k = (k + 1) % loop.size())
+        four.sides[side].push_back(edge_id(loop[k]));
+    problem.four_sided.push_back(std::move(four));
+    corner_edges.push_back({corners[0], corners[1], corners[2], corners[3]});
+  }
+  quad2d::IntervalSolution assignment;
+  if (!problem.four_sided.empty()) assignment = quad2d::solve_interval_assignment(problem);
+  if (assignment.solved) {
+    for (std::size_t c = 0; c < curves; ++c)
+      for (std::size_t i = 0; i < plans[c].segments.size(); ++i)
+        plans[c].segments[i] = assignment.counts[edge_offset[c] + i];
+  } else {
+    repair_parity(partition, plans, size);
+  }
   SampledPartition sampled;
   sampled.size = size;
   // Curve ends first, shared by every curve that ends there.
@@ -239,6 +341,17 @@ SampledPartition sample_partition(const Partition& partition, double size) {
       }
       sampled.part_loops[p].push_back(std::move(loop));
     }
+  }
+  // Corner positions of the parts that came out four-sided with matching sides.
+  sampled.part_corners.assign(parts, {-1, -1, -1, -1});
+  for (std::size_t f = 0; f < problem.four_sided.size() && assignment.solved; ++f) {
+    if (!assignment.mapped[f]) continue;
+    const std::size_t p = problem.four_sided[f].part;
+    const std::vector<LoopEdge>& loop = loop_edges[p][0];
+    std::vector<std::int64_t> start(loop.size() + 1, 0);  // loop position where each loop edge starts
+    for (std::size_t k = 0; k < loop.size(); ++k)
+      start[k + 1] = start[k] + plans[loop[k].curve].segments[loop[k].piece];
+    for (int i = 0; i < 4; ++i) sampled.part_corners[p][i] = start[corner_edges[f][i]];
   }
   return sampled;
 }

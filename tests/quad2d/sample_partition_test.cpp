@@ -122,3 +122,56 @@ TEST(SamplePartition, RejectsNonPositiveSize) {
 
 }  // namespace
 }  // namespace structmesh
+
+namespace structmesh {
+namespace {
+
+// Four-sided parts get equal counts on opposite sides; the corners are real corners.
+void expect_consistent_corners(const SampledPartition& sampled, std::size_t& mapped) {
+  mapped = 0;
+  ASSERT_EQ(sampled.part_corners.size(), sampled.part_loops.size());
+  for (std::size_t p = 0; p < sampled.part_loops.size(); ++p) {
+    const auto& c = sampled.part_corners[p];
+    if (c[0] < 0) continue;
+    ++mapped;
+    ASSERT_EQ(sampled.part_loops[p].size(), 1U);
+    const auto n = static_cast<std::int64_t>(sampled.part_loops[p][0].size());
+    ASSERT_TRUE(0 <= c[0] && c[0] < c[1] && c[1] < c[2] && c[2] < c[3] && c[3] < n) << "part " << p;
+    EXPECT_EQ(c[1] - c[0], c[3] - c[2]) << "part " << p;
+    EXPECT_EQ(c[2] - c[1], n - c[3] + c[0]) << "part " << p;
+  }
+}
+
+TEST(SamplePartition, RectanglePartsBecomeMappableWithMatchingSides) {
+  PartitionOptions options;
+  options.parts = 4;
+  options.cells = 400;
+  Polygon2 rectangle;
+  const std::vector<Vec2> ring{{0, 0}, {4, 0}, {4, 1}, {0, 1}};
+  rectangle.add_ring(ring);
+  const Partition partition = partition_region(rectangle, options);
+  const SampledPartition sampled = sample_partition(partition, 0.05);
+  std::size_t mapped = 0;
+  expect_consistent_corners(sampled, mapped);
+  // Four strips of a 4 x 1 rectangle cut by near-vertical separators are all four-sided.
+  EXPECT_EQ(mapped, 4U);
+  for (std::size_t p = 0; p < 4; ++p) {
+    std::size_t count = 0;
+    for (const auto& loop : sampled.part_loops[p]) count += loop.size();
+    EXPECT_EQ(count % 2, 0U);
+  }
+}
+
+TEST(SamplePartition, KeyPartsCornersAreConsistent) {
+  PartitionOptions options;
+  options.parts = 32;
+  const Partition partition = partition_region(make_key_region(2000), options);
+  const SampledPartition sampled = sample_partition(partition, 0.0157);
+  std::size_t mapped = 0;
+  expect_consistent_corners(sampled, mapped);
+  std::printf("Key, 32 parts: %zu four-sided parts with matching sides\n", mapped);
+  EXPECT_GT(mapped, 0U);
+}
+
+}  // namespace
+}  // namespace structmesh

@@ -1,0 +1,39 @@
+// Interval assignment: segment counts for the boundary edges of all parts at once,
+// so that every part has an even number of boundary points and every four-sided
+// part has equal counts on opposite sides (then it can be meshed as a structured
+// grid, without interior singular vertices; see mapped_mesh()).
+#pragma once
+
+#include "structmesh/mesh.hpp"
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace structmesh::quad2d {
+
+struct IntervalProblem {
+  std::vector<double> ideal;    ///< per edge: length / size
+  std::vector<Index> minimum;   ///< per edge: the smallest allowed count (>= 1)
+  /// Per part: its edges (each once per loop it bounds); the counts must sum to an even number.
+  std::vector<std::vector<Index>> part_edges;
+  struct FourSided {
+    std::size_t part = 0;
+    std::array<std::vector<Index>, 4> sides;  ///< edges of each side, in loop order
+  };
+  std::vector<FourSided> four_sided;  ///< parts to make mappable where possible
+};
+
+struct IntervalSolution {
+  bool solved = false;               ///< false: the caller falls back to rounding + parity repair
+  std::vector<Index> counts;         ///< per edge
+  std::vector<std::uint8_t> mapped;  ///< per four_sided entry: opposite sides match
+};
+
+/// Minimises the summed relative deviation |n_e - ideal_e| / max(1, ideal_e) minus a
+/// reward for every four-sided part whose opposite sides match, subject to the even
+/// parity of every part (an MILP solved by COIN-OR CBC with a node limit, so the
+/// answer does not depend on the machine's speed).
+IntervalSolution solve_interval_assignment(const IntervalProblem& problem);
+
+}  // namespace structmesh::quad2d
