@@ -2,10 +2,11 @@
 // equal point counts), the cheap alternative to paving (pave()) for such parts.
 // Transfinite interpolation of the sides (Gordon & Hall 1973) gives the
 // initial grid; Winslow's elliptic smoothing (Winslow 1967; Thompson, Warsi & Mastin,
-// "Numerical Grid Generation", 1985) removes its kinks and, because it makes the
-// computational coordinates harmonic functions of the physical ones, keeps the map
-// one-to-one where interpolation folds. The result is accepted only if every quad's
-// scaled Jacobian (+z reference) reaches the threshold; otherwise the caller paves.
+// "Numerical Grid Generation", 1985) removes its kinks; it makes the computational
+// coordinates harmonic functions of the physical ones, a one-to-one map in the
+// continuum (Rado's theorem), though the discrete grid can still fold next to a
+// reentrant corner of a side. So the result is accepted only if every quad's scaled
+// Jacobian (+z reference) reaches the threshold; otherwise the caller paves.
 #include "quad2d/mapped_mesh.hpp"
 
 #include "structmesh/error.hpp"
@@ -24,8 +25,8 @@ namespace {
 
 /// Normalised arc length of the grid nodes first, first + step, ... (count nodes):
 /// 0 at the first, 1 at the last. InputError when the side has zero length.
-std::vector<double> arc_parameters(const StructuredGrid& grid, std::size_t first, std::size_t step,
-                                   std::size_t count, const char* side) {
+std::vector<double> arc_parameters(const StructuredGrid& grid, std::size_t first, std::size_t step, std::size_t count,
+                                   const char* side) {
   std::vector<double> s(count, 0.0);
   for (std::size_t k = 1; k < count; ++k) {
     const std::size_t a = first + (k - 1) * step, b = a + step;
@@ -57,7 +58,8 @@ Box escape_box(const StructuredGrid& grid) {
   return {b.xmin - d, b.xmax + d, b.ymin - d, b.ymax + d};
 }
 
-/// Gauss-Seidel sweeps over the interior with `update(k, w, x, y) -> (x', y')`; a node
+/// Gauss-Seidel sweeps over the interior with `update(i, j, k, w, x, y) -> (x', y')`
+/// (k = node(i, j), w = ni + 1); a node
 /// that comes out non-finite or outside the escape box ends the sweeps as Diverged.
 template <class Update>
 Smoothing sweep(StructuredGrid& grid, int iterations, double tolerance, Update update) {
@@ -69,8 +71,8 @@ Smoothing sweep(StructuredGrid& grid, int iterations, double tolerance, Update u
   for (int it = 0; it < iterations; ++it) {
     double largest = 0;
     for (std::size_t j = 1; j < grid.nj; ++j) {
-      for (std::size_t k = j * w + 1, end = j * w + grid.ni; k < end; ++k) {
-        const auto [nx, ny] = update(k, w, x, y);
+      for (std::size_t i = 1, k = j * w + 1; i < grid.ni; ++i, ++k) {
+        const auto [nx, ny] = update(i, j, k, w, x, y);
         if (!(nx >= box.xmin && nx <= box.xmax && ny >= box.ymin && ny <= box.ymax)) return Smoothing::Diverged;
         largest = std::max(largest, std::max(std::abs(nx - x[k]), std::abs(ny - y[k])));
         x[k] = nx;
@@ -107,7 +109,8 @@ StructuredGrid transfinite_grid(const Polygon2& boundary, const std::array<std::
                      std::to_string(corners[3] - corners[2]) + ", " + std::to_string(nj) + " and " +
                      std::to_string(n - corners[3] + corners[0]) + ")");
   for (const Vec2& p : ring)
-    if (!std::isfinite(p.x()) || !std::isfinite(p.y())) throw InputError("mapped_mesh: the loop has a non-finite point");
+    if (!std::isfinite(p.x()) || !std::isfinite(p.y()))
+      throw InputError("mapped_mesh: the loop has a non-finite point");
   if (!(signed_area(ring) > 0)) throw InputError("mapped_mesh: the loop (ring 0) must be counter-clockwise");
   const std::size_t nodes = (ni + 1) * (nj + 1);
   if (nodes >= kInvalidIndex) throw InputError("mapped_mesh: the grid has too many points");
@@ -129,7 +132,7 @@ StructuredGrid transfinite_grid(const Polygon2& boundary, const std::array<std::
     set(i, nj, corners[3] - i);  // corners[3] -> corners[2], run backwards
   }
   for (std::size_t j = 0; j <= nj; ++j) {
-    set(ni, j, corners[1] + j);              // corners[1] -> corners[2]
+    set(ni, j, corners[1] + j);           // corners[1] -> corners[2]
     set(0, j, (corners[0] + n - j) % n);  // corners[0] -> corners[3] backwards, across the loop's start
   }
 
@@ -162,31 +165,64 @@ StructuredGrid transfinite_grid(const Polygon2& boundary, const std::array<std::
   return g;
 }
 
-Smoothing winslow_smooth(StructuredGrid& grid, int iterations, double tolerance) {
-  return sweep(grid, iterations, tolerance, [](std::size_t k, std::size_t w, const double* x, const double* y) {
-    // alpha x_xixi - 2 beta x_xieta + gamma x_etaeta = 0 (same for y) with central
-    // differences on the unit (i, j) spacing (Thompson et al. 1985):
-    // alpha = |r_eta|^2, beta = r_xi . r_eta, gamma = |r_xi|^2, solved for the centre node.
-    const double xxi = 0.5 * (x[k + 1] - x[k - 1]), yxi = 0.5 * (y[k + 1] - y[k - 1]);
-    const double xeta = 0.5 * (x[k + w] - x[k - w]), yeta = 0.5 * (y[k + w] - y[k - w]);
-    const double alpha = xeta * xeta + yeta * yeta;
-    const double beta = xxi * xeta + yxi * yeta;
-    const double gamma = xxi * xxi + yxi * yxi;
-    const double denominator = 2 * (alpha + gamma);
-    // 4 x_xieta, from the four diagonal neighbours.
-    const double cx = x[k + w + 1] - x[k - w + 1] - x[k + w - 1] + x[k - w - 1];
-    const double cy = y[k + w + 1] - y[k - w + 1] - y[k + w - 1] + y[k - w - 1];
-    // A collapsed stencil (alpha + gamma = 0) gives NaN, which sweep() reports as Diverged.
-    return Point{(alpha * (x[k + 1] + x[k - 1]) + gamma * (x[k + w] + x[k - w]) - 0.5 * beta * cx) / denominator,
-                 (alpha * (y[k + 1] + y[k - 1]) + gamma * (y[k + w] + y[k - w]) - 0.5 * beta * cy) / denominator};
-  });
+Smoothing winslow_smooth(StructuredGrid& grid, int iterations, double tolerance, bool control_functions) {
+  const std::size_t ni = grid.ni, nj = grid.nj, w = ni + 1;
+  // Thomas & Middlecoff (1980) control functions: phi on the two sides along i and psi
+  // on the two along j, -(r_s . r_ss) / |r_s|^2 of the boundary spacing, interpolated
+  // linearly across; with them a grid line spacing of the boundary carries into the
+  // interior instead of being evened out.
+  std::vector<double> phi(2 * (ni + 1), 0.0), psi(2 * (nj + 1), 0.0);
+  const auto stretching = [&](std::size_t k, std::size_t step) {
+    const double xs = 0.5 * (grid.x[k + step] - grid.x[k - step]), ys = 0.5 * (grid.y[k + step] - grid.y[k - step]);
+    const double xss = grid.x[k + step] - 2 * grid.x[k] + grid.x[k - step];
+    const double yss = grid.y[k + step] - 2 * grid.y[k] + grid.y[k - step];
+    const double length2 = xs * xs + ys * ys;
+    return length2 > 0 ? -(xs * xss + ys * yss) / length2 : 0.0;
+  };
+  if (control_functions) {
+    for (std::size_t i = 1; i < ni; ++i) {
+      phi[i] = stretching(grid.node(i, 0), 1);
+      phi[ni + 1 + i] = stretching(grid.node(i, nj), 1);
+    }
+    for (std::size_t j = 1; j < nj; ++j) {
+      psi[j] = stretching(grid.node(0, j), w);
+      psi[nj + 1 + j] = stretching(grid.node(ni, j), w);
+    }
+  }
+  const double di = 1.0 / static_cast<double>(ni), dj = 1.0 / static_cast<double>(nj);
+  return sweep(
+      grid, iterations, tolerance,
+      [&](std::size_t i, std::size_t j, std::size_t k, std::size_t, const double* x, const double* y) {
+        // alpha (r_xixi + phi r_xi) - 2 beta r_xieta + gamma (r_etaeta + psi r_eta) = 0 with
+        // central differences on the unit (i, j) spacing (Thompson et al. 1985):
+        // alpha = |r_eta|^2, beta = r_xi . r_eta, gamma = |r_xi|^2, solved for the centre node.
+        const double xxi = 0.5 * (x[k + 1] - x[k - 1]), yxi = 0.5 * (y[k + 1] - y[k - 1]);
+        const double xeta = 0.5 * (x[k + w] - x[k - w]), yeta = 0.5 * (y[k + w] - y[k - w]);
+        const double alpha = xeta * xeta + yeta * yeta;
+        const double beta = xxi * xeta + yxi * yeta;
+        const double gamma = xxi * xxi + yxi * yxi;
+        const double denominator = 2 * (alpha + gamma);
+        const double v = static_cast<double>(j) * dj, u = static_cast<double>(i) * di;
+        const double p = (1 - v) * phi[i] + v * phi[ni + 1 + i];
+        const double q = (1 - u) * psi[j] + u * psi[nj + 1 + j];
+        // 4 r_xieta, from the four diagonal neighbours.
+        const double cx = x[k + w + 1] - x[k - w + 1] - x[k + w - 1] + x[k - w - 1];
+        const double cy = y[k + w + 1] - y[k - w + 1] - y[k + w - 1] + y[k - w - 1];
+        // A collapsed stencil (alpha + gamma = 0) gives NaN: sweep() reports Diverged.
+        return Point{
+            (alpha * (x[k + 1] + x[k - 1] + p * xxi) + gamma * (x[k + w] + x[k - w] + q * xeta) - 0.5 * beta * cx) /
+                denominator,
+            (alpha * (y[k + 1] + y[k - 1] + p * yxi) + gamma * (y[k + w] + y[k - w] + q * yeta) - 0.5 * beta * cy) /
+                denominator};
+      });
 }
 
 Smoothing laplace_smooth(StructuredGrid& grid, int iterations, double tolerance) {
-  return sweep(grid, iterations, tolerance, [](std::size_t k, std::size_t w, const double* x, const double* y) {
-    return Point{0.25 * (x[k + 1] + x[k - 1] + x[k + w] + x[k - w]),
-                 0.25 * (y[k + 1] + y[k - 1] + y[k + w] + y[k - w])};
-  });
+  return sweep(grid, iterations, tolerance,
+               [](std::size_t, std::size_t, std::size_t k, std::size_t w, const double* x, const double* y) {
+                 return Point{0.25 * (x[k + 1] + x[k - 1] + x[k + w] + x[k - w]),
+                              0.25 * (y[k + 1] + y[k - 1] + y[k + w] + y[k - w])};
+               });
 }
 
 double min_scaled_jacobian(const StructuredGrid& grid) {
@@ -227,16 +263,15 @@ std::optional<PavedPart> mapped_mesh(const Polygon2& boundary, const std::array<
   if (options.smoothing_iterations == 0) {
     if (accepted(initial)) chosen = initial;
   } else {
-    StructuredGrid winslow = initial;
-    if (winslow_smooth(winslow, options.smoothing_iterations, tolerance) != Smoothing::Diverged && accepted(winslow)) {
-      chosen = std::move(winslow);
-    } else {
-      // Winslow ran away or left a bad quad: plain Laplacian smoothing from the
-      // interpolated grid, which cannot diverge (a mean of neighbours) but may fold
-      // on concave sides.
-      StructuredGrid laplace = initial;
-      if (laplace_smooth(laplace, options.smoothing_iterations, tolerance) != Smoothing::Diverged && accepted(laplace))
-        chosen = std::move(laplace);
+    // Winslow with control functions keeps the boundary spacing; without them it is
+    // the more robust harmonic map; Laplacian smoothing of the interpolated grid is the
+    // last resort (it cannot diverge, being a mean of neighbours, but folds more easily
+    // on concave sides). The first grid that passes is taken.
+    for (int attempt = 0; attempt < 3 && !chosen; ++attempt) {
+      StructuredGrid g = initial;
+      const Smoothing result = attempt < 2 ? winslow_smooth(g, options.smoothing_iterations, tolerance, attempt == 0)
+                                           : laplace_smooth(g, options.smoothing_iterations, tolerance);
+      if (result != Smoothing::Diverged && accepted(g)) chosen = std::move(g);
     }
   }
   if (!chosen) return std::nullopt;
@@ -257,8 +292,8 @@ std::optional<PavedPart> mapped_mesh(const Polygon2& boundary, const std::array<
   part.quads.reserve(g.ni * g.nj);
   for (std::size_t j = 0; j < g.nj; ++j)
     for (std::size_t i = 0; i < g.ni; ++i)
-      part.quads.push_back({point[g.node(i, j)], point[g.node(i + 1, j)], point[g.node(i + 1, j + 1)],
-                            point[g.node(i, j + 1)]});
+      part.quads.push_back(
+          {point[g.node(i, j)], point[g.node(i + 1, j)], point[g.node(i + 1, j + 1)], point[g.node(i, j + 1)]});
   return part;
 }
 

@@ -33,10 +33,12 @@ StructuredGrid transfinite_grid(const Polygon2& boundary, const std::array<std::
 enum class Smoothing { Converged, IterationLimit, Diverged };
 
 /// Gauss-Seidel sweeps (i fastest, then j) of the Winslow equations on the interior
-/// nodes; `tolerance` is the largest move below which a sweep ends the smoothing.
+/// nodes, with Thomas-Middlecoff control functions from the boundary spacing when
+/// `control_functions`; `tolerance` is the largest move below which a sweep ends the
+/// smoothing.
 /// Diverged (the grid then partly smoothed: start again from a copy) when a coordinate
 /// stops being finite or leaves the boundary's bounding box by more than its diagonal.
-Smoothing winslow_smooth(StructuredGrid& grid, int iterations, double tolerance);
+Smoothing winslow_smooth(StructuredGrid& grid, int iterations, double tolerance, bool control_functions);
 /// The same with every interior node moved to the mean of its four neighbours.
 Smoothing laplace_smooth(StructuredGrid& grid, int iterations, double tolerance);
 

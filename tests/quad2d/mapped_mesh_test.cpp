@@ -212,9 +212,10 @@ TEST(MappedMesh, GradedRectangle) {
   EXPECT_GE(m.min, 0.5);
 }
 
-TEST(MappedMesh, ArcLengthParametersFollowGradedSides) {
+TEST(MappedMesh, GradingCarriesIntoTheInterior) {
   // Both long sides graded alike: the interpolated grid has straight vertical lines
-  // (uniform parameters would slant them), so every quad is a rectangle.
+  // (uniform parameters would slant them), so every quad is a rectangle, and the
+  // control functions keep it so (plain Winslow would even out the spacing inside).
   const Part part =
       four_sided({sample(line({0, 0}, {30, 0}), graded(30, 1.1)), sample(line({30, 0}, {30, 10}), uniform(10)),
                   sample(line({30, 10}, {0, 10}), graded(30, 1 / 1.1)), sample(line({0, 10}, {0, 0}), uniform(10))});
@@ -224,6 +225,21 @@ TEST(MappedMesh, ArcLengthParametersFollowGradedSides) {
   ASSERT_TRUE(out.has_value());
   const Measured m = check_mesh(part, *out);
   EXPECT_GE(m.min, 0.99);
+}
+
+TEST(MappedMesh, SmoothingStopsWhenConverged) {
+  // The square's interpolated grid already solves the Winslow equations: one sweep.
+  const Part square = rectangle(1, 1, 9, 9);
+  mapped::StructuredGrid grid = mapped::transfinite_grid(square.polygon, square.corners);
+  EXPECT_EQ(mapped::winslow_smooth(grid, 1, 1e-11, true), mapped::Smoothing::Converged);
+  // The annulus needs many sweeps; 5 are not enough, 5000 are.
+  const Part annulus = quarter_annulus(10, 20);
+  grid = mapped::transfinite_grid(annulus.polygon, annulus.corners);
+  EXPECT_EQ(mapped::winslow_smooth(grid, 5, 1e-11, true), mapped::Smoothing::IterationLimit);
+  EXPECT_EQ(mapped::winslow_smooth(grid, 5000, 1e-11, true), mapped::Smoothing::Converged);
+  EXPECT_GE(mapped::min_scaled_jacobian(grid), 0.95);
+  grid = mapped::transfinite_grid(annulus.polygon, annulus.corners);
+  EXPECT_EQ(mapped::laplace_smooth(grid, 5000, 1e-11), mapped::Smoothing::Converged);
 }
 
 TEST(MappedMesh, QuarterAnnulus) {
@@ -317,10 +333,10 @@ TEST(MappedMesh, InconsistentInputIsAnInputError) {
   const Part part = rectangle(3, 2, 6, 4);  // corners 0, 6, 10, 16; 20 points
   const Polygon2& p = part.polygon;
   EXPECT_NO_THROW(mapped_mesh(p, {0, 6, 10, 16}));
-  EXPECT_THROW(mapped_mesh(p, {0, 6, 10, 15}), InputError);  // 6 vs 5 and 4 vs 5
-  EXPECT_THROW(mapped_mesh(p, {0, 6, 10, 14}), InputError);  // 6 vs 4
-  EXPECT_THROW(mapped_mesh(p, {6, 0, 10, 16}), InputError);  // unsorted
-  EXPECT_THROW(mapped_mesh(p, {0, 6, 6, 16}), InputError);   // repeated
+  EXPECT_THROW(mapped_mesh(p, {0, 6, 10, 15}), InputError);   // 6 vs 5 and 4 vs 5
+  EXPECT_THROW(mapped_mesh(p, {0, 6, 10, 14}), InputError);   // 6 vs 4
+  EXPECT_THROW(mapped_mesh(p, {6, 0, 10, 16}), InputError);   // unsorted
+  EXPECT_THROW(mapped_mesh(p, {0, 6, 6, 16}), InputError);    // repeated
   EXPECT_THROW(mapped_mesh(p, {4, 10, 14, 20}), InputError);  // out of range
   Polygon2 holed = p;
   holed.add_ring(std::vector<Vec2>{{1, 0.5}, {1, 1.5}, {2, 1.5}, {2, 0.5}});
@@ -349,12 +365,14 @@ TEST(MappedMesh, Deterministic) {
 }
 
 TEST(MappedMesh, LargeGridTime) {
-  const Part part = quarter_annulus(400, 400);
-  const auto start = std::chrono::steady_clock::now();
-  const auto out = mapped_mesh(part.polygon, part.corners);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  ASSERT_TRUE(out.has_value());
-  std::printf("400 x 400 quarter annulus: %zu quads in %.3f s\n", out->quads.size(), seconds);
+  for (const std::size_t size : {std::size_t{200}, std::size_t{400}}) {
+    const Part part = quarter_annulus(size, size);
+    const auto start = std::chrono::steady_clock::now();
+    const auto out = mapped_mesh(part.polygon, part.corners);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ASSERT_TRUE(out.has_value());
+    std::printf("%zu x %zu quarter annulus: %zu quads in %.3f s\n", size, size, out->quads.size(), seconds);
+  }
 }
 
 }  // namespace
