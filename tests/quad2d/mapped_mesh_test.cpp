@@ -242,6 +242,35 @@ TEST(MappedMesh, SmoothingStopsWhenConverged) {
   EXPECT_EQ(mapped::laplace_smooth(grid, 5000, 1e-11), mapped::Smoothing::Converged);
 }
 
+TEST(MappedMesh, WinslowSolvesTheInverseOfAHarmonicMap) {
+  // xi = x and eta = x y are harmonic, so x = xi, y = eta / xi solves the Winslow
+  // equations with a non-zero cross term (beta = -eta / xi^3): the converged grid
+  // matches it up to the O(h^2) discretisation error, a wrong stencil by far more.
+  const std::size_t m = 20;
+  const auto exact = [&](std::size_t i, std::size_t j) {
+    const double xi = 1 + static_cast<double>(i) / m, eta = static_cast<double>(j) / m;
+    return Vec2(xi, eta / xi);
+  };
+  std::array<std::vector<Vec2>, 4> sides;
+  for (std::size_t k = 0; k <= m; ++k) {
+    sides[0].push_back(exact(k, 0));
+    sides[1].push_back(exact(m, k));
+    sides[2].push_back(exact(m - k, m));
+    sides[3].push_back(exact(0, m - k));
+  }
+  const Part part = four_sided(sides);
+  mapped::StructuredGrid grid = mapped::transfinite_grid(part.polygon, part.corners);
+  ASSERT_EQ(mapped::winslow_smooth(grid, 20000, 1e-13, false), mapped::Smoothing::Converged);
+  double error = 0;
+  for (std::size_t j = 0; j <= m; ++j)
+    for (std::size_t i = 0; i <= m; ++i) {
+      const std::size_t k = grid.node(i, j);
+      error = std::max(error, (Vec2(grid.x[k], grid.y[k]) - exact(i, j)).norm());
+    }
+  std::printf("Winslow vs exact: largest error %.3g\n", error);
+  EXPECT_LT(error, 2e-4);
+}
+
 TEST(MappedMesh, QuarterAnnulus) {
   const Part part = quarter_annulus(10, 20);
   const auto out = mapped_mesh(part.polygon, part.corners);
