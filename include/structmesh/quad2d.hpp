@@ -15,6 +15,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
@@ -57,6 +58,24 @@ struct PavedPart {
 /// points is odd or a loop has fewer than 3 points; Error when the front cannot be
 /// closed (reported, never silent).
 PavedPart pave(const Polygon2& boundary, const PavingOptions& options = {});
+
+// ---------------------------------------------------------------------------
+// Per-part mesher: mapped (structured) grid of a four-sided part
+
+struct MappedMeshOptions {
+  int smoothing_iterations = 200;    ///< elliptic (Winslow) smoothing sweeps of the interior
+  double min_scaled_jacobian = 0.2;  ///< below this anywhere: return std::nullopt (the caller paves instead)
+};
+
+/// Structured mesh of a part whose single loop (ring 0 of `boundary`, counter-clockwise,
+/// no holes) has four corners at loop positions corners[0] < corners[1] < corners[2] < corners[3],
+/// with side point counts matching: (corners[1]-corners[0]) == (corners[3]-corners[2]) and
+/// (corners[2]-corners[1]) == (n - corners[3] + corners[0]). Returns the grid (input points first,
+/// bit-identical, in input order, then interior points; counter-clockwise quads, every boundary edge
+/// in exactly one quad), or std::nullopt when the map folds or a quad's scaled Jacobian stays below
+/// options.min_scaled_jacobian after smoothing. InputError for inconsistent corners.
+std::optional<PavedPart> mapped_mesh(const Polygon2& boundary, const std::array<std::size_t, 4>& corners,
+                                     const MappedMeshOptions& options = {});
 
 // ---------------------------------------------------------------------------
 // Boundary sampling shared by neighbouring parts
