@@ -209,6 +209,8 @@ void broadcast_setup(Quad2dSetup& setup, bool root) {
         integers.insert(integers.end(), loop.begin(), loop.end());
       }
     }
+    for (const auto& corners : sampled.part_corners)
+      for (const std::int64_t c : corners) integers.push_back(static_cast<std::uint32_t>(c + 1));  // 0: none
     flags = sampled.on_region_boundary;
     flags.insert(flags.end(), sampled.fixed.begin(), sampled.fixed.end());
   }
@@ -239,6 +241,9 @@ void broadcast_setup(Quad2dSetup& setup, bool root) {
       at += length;
     }
   }
+  sampled.part_corners.assign(parts, {-1, -1, -1, -1});
+  for (std::size_t p = 0; p < parts; ++p)
+    for (int i = 0; i < 4; ++i) sampled.part_corners[p][i] = static_cast<std::int64_t>(integers[at++]) - 1;
   sampled.on_region_boundary.assign(flags.begin(), flags.begin() + static_cast<std::ptrdiff_t>(points));
   sampled.fixed.assign(flags.begin() + static_cast<std::ptrdiff_t>(points), flags.end());
 }

@@ -40,6 +40,7 @@ struct PavingStats {
   std::size_t splits = 0;          // front loops split or joined by a chord
   std::size_t templates = 0;       // small loops closed by a template
   std::size_t fallback_loops = 0;  // loops closed by the fallback (not by paving)
+  std::size_t mapped = 0;          // parts meshed as a structured grid (mapped_mesh), not paved
 };
 
 struct PavedPart {

@@ -21,8 +21,6 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
-#include <chrono>
-#include <cstdio>
 
 namespace structmesh::quad2d {
 
@@ -130,17 +128,15 @@ IntervalSolution solve_interval_assignment(const IntervalProblem& problem) {
   for (std::size_t e = 0; e < edges; ++e) solver.setInteger(n0 + static_cast<int>(e));
   for (std::size_t p = 0; p < parts; ++p) solver.setInteger(m0 + static_cast<int>(p));
   for (std::size_t f = 0; f < mapped; ++f) solver.setInteger(z0 + static_cast<int>(f));
-  std::fprintf(stderr, "DBG interval: %zu edges %zu parts %zu four-sided %zu rows\n", edges, parts, mapped, rows.size());
   CbcModel model(solver);
   model.messageHandler()->setLogLevel(0);
   CbcSolverUsefulData data;
   data.noPrinting_ = true;
   CbcMain0(model, data);
   const std::string nodes = std::to_string(kNodeLimit);
-  const char* argv[] = {"cbc", "-log", "0", "-preprocess", "off", "-cuts", "off", "-maxNodes", nodes.c_str(), "-solve", "-quit"};
-  const auto t0 = std::chrono::steady_clock::now();
+  const char* argv[] = {"cbc", "-log",      "0",           "-preprocess", "off",  "-cuts",
+                        "off", "-maxNodes", nodes.c_str(), "-solve",      "-quit"};
   CbcMain1(11, argv, model, nullptr, data);
-  std::fprintf(stderr, "DBG cbc %.3f s nodes %d\n", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), model.getNodeCount());
 
   IntervalSolution solution;
   const double* best = model.bestSolution();

@@ -13,8 +13,8 @@
 namespace structmesh::quad2d {
 
 struct IntervalProblem {
-  std::vector<double> ideal;    ///< per edge: length / size
-  std::vector<Index> minimum;   ///< per edge: the smallest allowed count (>= 1)
+  std::vector<double> ideal;   ///< per edge: length / size
+  std::vector<Index> minimum;  ///< per edge: the smallest allowed count (>= 1)
   /// Per part: its edges (each once per loop it bounds); the counts must sum to an even number.
   std::vector<std::vector<Index>> part_edges;
   struct FourSided {

@@ -19,6 +19,7 @@
 #include <cmath>
 #include <memory>
 #include <numeric>
+#include <optional>
 #include <string>
 
 namespace structmesh {
@@ -127,7 +128,21 @@ std::vector<PavedPart> pave_parts(const Quad2dSetup& setup, std::span<const std:
           const auto part_start = Clock::now();
           const Polygon2 boundary = part_boundary(setup.sampled, p).first;
           try {
-            paved[p] = pave(boundary, paving);
+            // Four-sided parts with matching sides become structured grids (no
+            // interior singular vertex); paving when the map would fold.
+            const auto& corners = setup.sampled.part_corners[p];
+            std::optional<PavedPart> mapped;
+            if (corners[0] >= 0) {
+              mapped =
+                  mapped_mesh(boundary, {static_cast<std::size_t>(corners[0]), static_cast<std::size_t>(corners[1]),
+                                         static_cast<std::size_t>(corners[2]), static_cast<std::size_t>(corners[3])});
+            }
+            if (mapped) {
+              paved[p] = std::move(*mapped);
+              paved[p].stats.mapped = 1;
+            } else {
+              paved[p] = pave(boundary, paving);
+            }
           } catch (const InputError& e) {
             throw Error("quad2d: part " + std::to_string(p) + ": " + e.what());
           } catch (const Error& e) {
@@ -173,6 +188,7 @@ Quad2dResult mesh_region_quads(const Polygon2& region, const Quad2dOptions& opti
     report.paving.splits += part.stats.splits;
     report.paving.templates += part.stats.templates;
     report.paving.fallback_loops += part.stats.fallback_loops;
+    report.paving.mapped += part.stats.mapped;
   }
   paved.clear();
   paved.shrink_to_fit();

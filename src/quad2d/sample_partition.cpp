@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <queue>
 #include <string>
@@ -38,6 +39,8 @@ constexpr double kSideAngleMax = 1.25 * std::numbers::pi;
 struct CurvePlan {
   std::vector<Vec2> polyline;
   std::vector<std::size_t> breaks;
+  std::vector<Index> break_vertices;  // partition vertex at each break
+  bool smoothed = false;
   std::vector<double> lengths;
   std::vector<Index> segments;
   bool closed = false;
@@ -54,7 +57,42 @@ double polyline_length(std::span<const Vec2> points, std::size_t from, std::size
   return length;
 }
 
-CurvePlan plan_curve(const Partition& partition, const PartitionCurve& curve, double size) {
+// Point at arc length s along polyline[from..to].
+Vec2 point_at(std::span<const Vec2> points, std::size_t from, std::size_t to, double s) {
+  for (std::size_t i = from; i < to; ++i) {
+    const double length = (points[i + 1] - points[i]).norm();
+    if (s <= length || i + 1 == to) {
+      const double t = length > 0 ? std::clamp(s / length, 0.0, 1.0) : 0.0;
+      return points[i] + t * (points[i + 1] - points[i]);
+    }
+    s -= length;
+  }
+  return points[to];
+}
+
+// A separator follows CVT cell edges: a staircase whose steps are as large as a
+// cell. Part meshes want smooth sides (paving rows follow them; a structured grid
+// folds at a reflex step), so the separator is resampled to m = 8..64 even points
+// and smoothed with 2m Laplacian sweeps (ends fixed), which flattens steps up to
+// about a fifth of its length. sample_partition() reverts a separator to its cell
+// edges if the smoothed one would cross another curve.
+std::vector<Vec2> smoothed_separator(const std::vector<Vec2>& polyline, double size) {
+  const double length = polyline_length(polyline, 0, polyline.size() - 1);
+  const std::size_t m = static_cast<std::size_t>(std::clamp(std::round(length / size), 8.0, 64.0));
+  std::vector<Vec2> points(m + 1), next(m + 1);
+  for (std::size_t i = 0; i <= m; ++i)
+    points[i] = point_at(polyline, 0, polyline.size() - 1, length * static_cast<double>(i) / static_cast<double>(m));
+  points.front() = polyline.front();
+  points.back() = polyline.back();
+  for (std::size_t sweep = 0; sweep < 2 * m; ++sweep) {
+    next = points;
+    for (std::size_t i = 1; i < m; ++i) next[i] = 0.5 * points[i] + 0.25 * (points[i - 1] + points[i + 1]);
+    points.swap(next);
+  }
+  return points;
+}
+
+CurvePlan plan_curve(const Partition& partition, const PartitionCurve& curve, double size, bool smooth) {
   CurvePlan plan;
   for (const Index v : curve.vertices) plan.polyline.push_back(partition.metric_vertices[v]);
   const std::size_t last = plan.polyline.size() - 1;
@@ -66,6 +104,12 @@ CurvePlan plan_curve(const Partition& partition, const PartitionCurve& curve, do
         plan.breaks.push_back(i);
   }
   plan.breaks.push_back(last);
+  for (const std::size_t b : plan.breaks) plan.break_vertices.push_back(curve.vertices[b]);
+  if (smooth && curve.kind == PartitionCurve::Kind::Separator && !plan.closed) {
+    plan.polyline = smoothed_separator(plan.polyline, size);
+    plan.breaks = {0, plan.polyline.size() - 1};
+    plan.smoothed = true;
+  }
   for (std::size_t i = 0; i + 1 < plan.breaks.size(); ++i) {
     const double length = polyline_length(plan.polyline, plan.breaks[i], plan.breaks[i + 1]);
     plan.lengths.push_back(length);
@@ -105,17 +149,77 @@ void flip_parity(CurvePlan& plan, double size) {
   plan.segments[best] = static_cast<Index>(static_cast<int>(plan.segments[best]) + best_step);
 }
 
-// Point at arc length s along polyline[from..to].
-Vec2 point_at(std::span<const Vec2> points, std::size_t from, std::size_t to, double s) {
-  for (std::size_t i = from; i < to; ++i) {
-    const double length = (points[i + 1] - points[i]).norm();
-    if (s <= length || i + 1 == to) {
-      const double t = length > 0 ? std::clamp(s / length, 0.0, 1.0) : 0.0;
-      return points[i] + t * (points[i + 1] - points[i]);
-    }
-    s -= length;
+// The sample positions of a plan, piece ends included.
+std::vector<Vec2> sample_positions(const CurvePlan& plan) {
+  std::vector<Vec2> points;
+  for (std::size_t piece = 0; piece < plan.segments.size(); ++piece) {
+    const std::size_t from = plan.breaks[piece], to = plan.breaks[piece + 1];
+    points.push_back(plan.polyline[from]);
+    const Index n = plan.segments[piece];
+    for (Index j = 1; j < n; ++j) points.push_back(point_at(plan.polyline, from, to, plan.lengths[piece] * j / n));
   }
-  return points[to];
+  points.push_back(plan.polyline.back());
+  return points;
+}
+
+double orientation(const Vec2& a, const Vec2& b, const Vec2& c) {
+  return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+}
+
+// Segments ab and cd cross or touch, other than at a shared end point.
+bool segments_meet(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+  if (a == c || a == d || b == c || b == d) return false;
+  const double o1 = orientation(a, b, c), o2 = orientation(a, b, d), o3 = orientation(c, d, a),
+               o4 = orientation(c, d, b);
+  return ((o1 <= 0 && o2 >= 0) || (o1 >= 0 && o2 <= 0)) && ((o3 <= 0 && o4 >= 0) || (o3 >= 0 && o4 <= 0)) &&
+         !(o1 == 0 && o2 == 0);  // collinear overlaps of a degenerate pair are left to the meshers
+}
+
+// Curves whose sampled polylines meet another curve's, or themselves, away from
+// shared ends: a uniform grid of cell = the longest segment, each pair tested once.
+std::vector<std::size_t> curves_with_crossings(const std::vector<CurvePlan>& plans) {
+  struct Segment {
+    Vec2 a, b;
+    std::size_t curve, index;
+  };
+  std::vector<Segment> segments;
+  double longest = 0;
+  BoundingBox2 box;
+  for (std::size_t c = 0; c < plans.size(); ++c) {
+    const std::vector<Vec2> points = sample_positions(plans[c]);
+    for (std::size_t i = 0; i + 1 < points.size(); ++i) {
+      segments.push_back({points[i], points[i + 1], c, i});
+      longest = std::max(longest, (points[i + 1] - points[i]).norm());
+      box.extend(points[i]);
+      box.extend(points[i + 1]);
+    }
+  }
+  if (segments.empty() || !(longest > 0)) return {};
+  const double cell = longest;
+  const auto key = [&](double x, double y) {
+    return std::pair<std::int64_t, std::int64_t>{static_cast<std::int64_t>(std::floor((x - box.min.x()) / cell)),
+                                                 static_cast<std::int64_t>(std::floor((y - box.min.y()) / cell))};
+  };
+  std::map<std::pair<std::int64_t, std::int64_t>, std::vector<std::size_t>> grid;
+  for (std::size_t s = 0; s < segments.size(); ++s) {
+    const auto lo = key(std::min(segments[s].a.x(), segments[s].b.x()), std::min(segments[s].a.y(), segments[s].b.y()));
+    const auto hi = key(std::max(segments[s].a.x(), segments[s].b.x()), std::max(segments[s].a.y(), segments[s].b.y()));
+    for (std::int64_t x = lo.first; x <= hi.first; ++x)
+      for (std::int64_t y = lo.second; y <= hi.second; ++y) grid[{x, y}].push_back(s);
+  }
+  std::vector<std::uint8_t> bad(plans.size(), 0);
+  for (const auto& [cell_key, members] : grid)
+    for (std::size_t i = 0; i < members.size(); ++i)
+      for (std::size_t j = i + 1; j < members.size(); ++j) {
+        const Segment& s = segments[members[i]];
+        const Segment& t = segments[members[j]];
+        if (s.curve == t.curve && (s.index + 1 == t.index || t.index + 1 == s.index)) continue;
+        if (segments_meet(s.a, s.b, t.a, t.b)) bad[s.curve] = bad[t.curve] = 1;
+      }
+  std::vector<std::size_t> result;
+  for (std::size_t c = 0; c < plans.size(); ++c)
+    if (bad[c]) result.push_back(c);
+  return result;
 }
 
 // Rounding leaves some parts odd: a T-join on a BFS tree of the graph parts +
@@ -220,7 +324,7 @@ SampledPartition sample_partition(const Partition& partition, double size) {
   plans.reserve(curves);
   for (const PartitionCurve& curve : partition.curves) {
     if (curve.vertices.size() < 2) throw Error("sample_partition: a partition curve has fewer than 2 vertices");
-    plans.push_back(plan_curve(partition, curve, size));
+    plans.push_back(plan_curve(partition, curve, size, true));
   }
 
   // Edges: the pieces of the curves (region boundary curves split at corners), the
@@ -292,6 +396,21 @@ SampledPartition sample_partition(const Partition& partition, double size) {
   } else {
     repair_parity(partition, plans, size);
   }
+  // Smoothed separators must not cross anything: revert the ones that do (their
+  // segment counts stay) until none does.
+  for (int round = 0; round < 8; ++round) {
+    const std::vector<std::size_t> crossing = curves_with_crossings(plans);
+    bool reverted = false;
+    for (const std::size_t c : crossing) {
+      if (!plans[c].smoothed) continue;
+      const std::vector<Index> segments = plans[c].segments;
+      plans[c] = plan_curve(partition, partition.curves[c], size, false);
+      plans[c].segments = segments;
+      reverted = true;
+    }
+    if (!reverted) break;
+  }
+
   SampledPartition sampled;
   sampled.size = size;
   // Curve ends first, shared by every curve that ends there.
@@ -318,7 +437,7 @@ SampledPartition sample_partition(const Partition& partition, double size) {
     std::vector<Index>& chain = chains[c];
     for (std::size_t piece = 0; piece < plan.segments.size(); ++piece) {
       const std::size_t from = plan.breaks[piece], to = plan.breaks[piece + 1];
-      chain.push_back(end_point(curve.vertices[from], boundary));
+      chain.push_back(end_point(plan.break_vertices[piece], boundary));
       const Index n = plan.segments[piece];
       for (Index j = 1; j < n; ++j)
         chain.push_back(add_point(point_at(plan.polyline, from, to, plan.lengths[piece] * j / n), boundary));
