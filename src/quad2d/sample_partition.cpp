@@ -28,10 +28,11 @@ namespace {
 // Region boundary vertices that turn by more than this are kept as samples, so the
 // Key's teeth and other sharp features survive resampling.
 constexpr double kCornerTurn = 25.0 * std::numbers::pi / 180.0;
-// Interior angles that make a part four-sided: corners below 135°, every other
-// break between 150° and 225° (a break between 135° and 150° is neither).
-constexpr double kCornerAngle = 0.75 * std::numbers::pi;
-constexpr double kSideAngleMin = 150.0 * std::numbers::pi / 180.0;
+// Interior angles that make a part four-sided: its four smallest below 150°, every
+// other break at least 100° (the side bends there) and none above 225° (reflex).
+// mapped_mesh() refuses the parts where this was too optimistic; they are paved.
+constexpr double kCornerAngle = 150.0 * std::numbers::pi / 180.0;
+constexpr double kSideAngleMin = 100.0 * std::numbers::pi / 180.0;
 constexpr double kSideAngleMax = 1.25 * std::numbers::pi;
 
 // A curve as pieces between kept vertices: piece i runs from polyline vertex
@@ -367,18 +368,22 @@ SampledPartition sample_partition(const Partition& partition, double size) {
       for (const LoopEdge& e : loop) problem.part_edges[p].push_back(edge_id(e));
     if (loop_edges[p].size() != 1 || loop_edges[p][0].size() < 4) continue;
     const std::vector<LoopEdge>& loop = loop_edges[p][0];
-    std::vector<std::size_t> corners;
-    bool ambiguous = false;
+    // The four smallest interior angles are the corners when they are below 150°,
+    // every other break is at least 100° (a side may bend) and none is reflex.
+    std::vector<std::pair<double, std::size_t>> angles;
     for (std::size_t k = 0; k < loop.size(); ++k) {
       const LoopEdge& in = loop[(k + loop.size() - 1) % loop.size()];
-      const double angle = interior_angle(plans[in.curve], in.piece, in.forward, plans[loop[k].curve], loop[k].piece,
-                                          loop[k].forward, size);
-      if (angle < kCornerAngle)
-        corners.push_back(k);
-      else if (angle < kSideAngleMin || angle > kSideAngleMax)
-        ambiguous = true;
+      angles.emplace_back(interior_angle(plans[in.curve], in.piece, in.forward, plans[loop[k].curve], loop[k].piece,
+                                         loop[k].forward, size),
+                          k);
     }
-    if (ambiguous || corners.size() != 4) continue;
+    std::vector<std::pair<double, std::size_t>> sorted = angles;
+    std::stable_sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    if (sorted[3].first >= kCornerAngle || sorted.back().first > kSideAngleMax) continue;
+    if (sorted.size() > 4 && sorted[4].first < kSideAngleMin) continue;
+    std::vector<std::size_t> corners;
+    for (int i = 0; i < 4; ++i) corners.push_back(sorted[static_cast<std::size_t>(i)].second);
+    std::sort(corners.begin(), corners.end());
     quad2d::IntervalProblem::FourSided four;
     four.part = p;
     for (int side = 0; side < 4; ++side)
