@@ -211,6 +211,13 @@ void broadcast_setup(Quad2dSetup& setup, bool root) {
     }
     for (const auto& corners : sampled.part_corners)
       for (const std::int64_t c : corners) integers.push_back(static_cast<std::uint32_t>(c + 1));  // 0: none
+    for (std::size_t p = 0; p < sampled.part_loops.size(); ++p) {
+      const PolarBlocks& blocks = sampled.part_polar[p];
+      integers.push_back(static_cast<std::uint32_t>(blocks.corners.size()));
+      for (std::size_t i = 0; i < blocks.corners.size(); ++i)
+        integers.insert(integers.end(), {static_cast<std::uint32_t>(blocks.corners[i]),
+                                         static_cast<std::uint32_t>(blocks.splits[i]), blocks.chord_segments[i]});
+    }
     flags = sampled.on_region_boundary;
     flags.insert(flags.end(), sampled.fixed.begin(), sampled.fixed.end());
   }
@@ -244,6 +251,16 @@ void broadcast_setup(Quad2dSetup& setup, bool root) {
   sampled.part_corners.assign(parts, {-1, -1, -1, -1});
   for (std::size_t p = 0; p < parts; ++p)
     for (int i = 0; i < 4; ++i) sampled.part_corners[p][i] = static_cast<std::int64_t>(integers[at++]) - 1;
+  sampled.part_polar.assign(parts, {});
+  for (std::size_t p = 0; p < parts; ++p) {
+    const std::size_t k = integers[at++];
+    PolarBlocks& blocks = sampled.part_polar[p];
+    for (std::size_t i = 0; i < k; ++i) {
+      blocks.corners.push_back(integers[at++]);
+      blocks.splits.push_back(integers[at++]);
+      blocks.chord_segments.push_back(integers[at++]);
+    }
+  }
   sampled.on_region_boundary.assign(flags.begin(), flags.begin() + static_cast<std::ptrdiff_t>(points));
   sampled.fixed.assign(flags.begin() + static_cast<std::ptrdiff_t>(points), flags.end());
 }

@@ -41,6 +41,7 @@ struct PavingStats {
   std::size_t templates = 0;       // small loops closed by a template
   std::size_t fallback_loops = 0;  // loops closed by the fallback (not by paving)
   std::size_t mapped = 0;          // parts meshed as a structured grid (mapped_mesh), not paved
+  std::size_t polar = 0;           // parts meshed as polar blocks (polar_mesh)
 };
 
 struct PavedPart {
@@ -78,6 +79,27 @@ struct MappedMeshOptions {
 std::optional<PavedPart> mapped_mesh(const Polygon2& boundary, const std::array<std::size_t, 4>& corners,
                                      const MappedMeshOptions& options = {});
 
+/// A part with n >= 3 corners cut into n four-sided blocks around a centre point
+/// (midpoint subdivision): block i has corner i, the split points of the sides
+/// before and after it, and the centre. Side i runs from corner i to corner i+1 and
+/// is split at loop position splits[i]; the straight chord from that split point to
+/// the centre has chord_segments[i] segments. The blocks' opposite sides match when
+/// (splits[i] - corners[i]) == chord_segments[i-1] and
+/// (corners[i+1] - splits[i]) == chord_segments[i+1] (indices modulo n).
+struct PolarBlocks {
+  std::vector<std::int64_t> corners;  ///< loop positions, ascending; empty = not used
+  std::vector<std::int64_t> splits;
+  std::vector<Index> chord_segments;
+};
+
+/// The mesh of a PolarBlocks decomposition: every block a structured grid
+/// (mapped_mesh), so the only interior singular vertex is the centre (valence n).
+/// Input points first and bit-identical, like pave(). std::nullopt when the centre
+/// (the area centroid) is outside the part or a block's grid folds; InputError for
+/// inconsistent blocks.
+std::optional<PavedPart> polar_mesh(const Polygon2& boundary, const PolarBlocks& blocks,
+                                    const MappedMeshOptions& options = {});
+
 // ---------------------------------------------------------------------------
 // Boundary sampling shared by neighbouring parts
 
@@ -92,6 +114,9 @@ struct SampledPartition {
   /// Per part: the loop positions of its four corners when the part is four-sided
   /// with equal point counts on opposite sides (a structured grid fits), else all -1.
   std::vector<std::array<std::int64_t, 4>> part_corners;
+  /// Per part: a polar block decomposition for the one-loop parts with 3 or more
+  /// corners that are not four-sided (corners empty when none).
+  std::vector<PolarBlocks> part_polar;
   double size = 0;  ///< the target edge length used
 };
 

@@ -27,6 +27,7 @@ namespace structmesh::quad2d {
 namespace {
 
 constexpr double kMappedReward = 2.0;
+constexpr double kPolarReward = 1.5;  // one singular vertex (the centre), not none
 // Branch-and-bound nodes: a limit on work, not on time, so the result is the same on
 // any machine. The LP relaxation is nearly always integral here.
 constexpr int kNodeLimit = 500;
@@ -43,10 +44,16 @@ IntervalSolution solve_interval_assignment(const IntervalProblem& problem) {
   const std::size_t edges = problem.ideal.size();
   const std::size_t parts = problem.part_edges.size();
   const std::size_t mapped = problem.four_sided.size();
-  // Columns: n_e [0, E), d_e [E, 2E), m_p [2E, 2E+P), z_p [2E+P, 2E+P+F).
+  const std::size_t polar = problem.polar.size();
+  std::vector<std::size_t> chord_offset(polar + 1, 0);
+  for (std::size_t q = 0; q < polar; ++q) chord_offset[q + 1] = chord_offset[q] + problem.polar[q].sides.size();
+  const std::size_t chords = chord_offset[polar];
+  // Columns: n_e [0, E), d_e [E, 2E), m_p [2E, 2E+P), z_p [.., +F), polar y_q [.., +Q),
+  // chord counts r [.., +C), chord deviations [.., +C).
   const int n0 = 0, d0 = static_cast<int>(edges), m0 = static_cast<int>(2 * edges),
-            z0 = static_cast<int>(2 * edges + parts);
-  const std::size_t columns = 2 * edges + parts + mapped;
+            z0 = static_cast<int>(2 * edges + parts), y0 = z0 + static_cast<int>(mapped),
+            r0 = y0 + static_cast<int>(polar), dr0 = r0 + static_cast<int>(chords);
+  const std::size_t columns = 2 * edges + parts + mapped + polar + 2 * chords;
   std::vector<double> col_lo(columns, 0.0), col_hi(columns, COIN_DBL_MAX), objective(columns, 0.0);
   for (std::size_t e = 0; e < edges; ++e) {
     const double t = problem.ideal[e];
@@ -60,6 +67,17 @@ IntervalSolution solve_interval_assignment(const IntervalProblem& problem) {
   for (std::size_t f = 0; f < mapped; ++f) {
     col_hi[z0 + f] = 1.0;
     objective[z0 + f] = -kMappedReward;
+  }
+  for (std::size_t q = 0; q < polar; ++q) {
+    col_hi[y0 + q] = 1.0;
+    objective[y0 + q] = -kPolarReward;
+    for (std::size_t i = 0; i < problem.polar[q].sides.size(); ++i) {
+      const std::size_t c = chord_offset[q] + i;
+      const double t = problem.polar[q].chord_ideal[i];
+      col_lo[r0 + c] = 1.0;
+      col_hi[r0 + c] = std::max(4.0, std::ceil(3.0 * t) + 2.0);
+      objective[dr0 + c] = 0.5 / std::max(1.0, t);
+    }
   }
 
   std::vector<Row> rows;
@@ -114,6 +132,39 @@ IntervalSolution solve_interval_assignment(const IntervalProblem& problem) {
     }
   }
 
+  for (std::size_t q = 0; q < polar; ++q) {
+    const IntervalProblem::Polar& blocks = problem.polar[q];
+    const std::size_t k = blocks.sides.size();
+    for (std::size_t i = 0; i < k; ++i) {
+      const int r = r0 + static_cast<int>(chord_offset[q] + i), dr = dr0 + static_cast<int>(chord_offset[q] + i);
+      rows.push_back({{dr, r}, {1.0, -1.0}, -blocks.chord_ideal[i], COIN_DBL_MAX});
+      rows.push_back({{dr, r}, {1.0, 1.0}, blocks.chord_ideal[i], COIN_DBL_MAX});
+      // sum_{side i} n - r_{i-1} - r_{i+1} = 0 when y_q = 1 (big-M otherwise).
+      const int before = r0 + static_cast<int>(chord_offset[q] + (i + k - 1) % k);
+      const int after = r0 + static_cast<int>(chord_offset[q] + (i + 1) % k);
+      double big = 4.0 + col_hi[before] + col_hi[after];
+      for (const Index e : blocks.sides[i]) big += col_hi[n0 + e];
+      for (const double sign : {1.0, -1.0}) {
+        Row row{{}, {}, -COIN_DBL_MAX, big};
+        for (const Index e : blocks.sides[i]) {
+          row.index.push_back(n0 + static_cast<int>(e));
+          row.value.push_back(sign);
+        }
+        row.index.push_back(before);
+        row.value.push_back(-sign);
+        if (after != before) {
+          row.index.push_back(after);
+          row.value.push_back(-sign);
+        } else {
+          row.value.back() -= sign;
+        }
+        row.index.push_back(y0 + static_cast<int>(q));
+        row.value.push_back(big);
+        rows.push_back(std::move(row));
+      }
+    }
+  }
+
   CoinPackedMatrix matrix(false, 0, 0);
   matrix.setDimensions(0, static_cast<int>(columns));
   std::vector<double> row_lo, row_hi;
@@ -128,6 +179,8 @@ IntervalSolution solve_interval_assignment(const IntervalProblem& problem) {
   for (std::size_t e = 0; e < edges; ++e) solver.setInteger(n0 + static_cast<int>(e));
   for (std::size_t p = 0; p < parts; ++p) solver.setInteger(m0 + static_cast<int>(p));
   for (std::size_t f = 0; f < mapped; ++f) solver.setInteger(z0 + static_cast<int>(f));
+  for (std::size_t q = 0; q < polar; ++q) solver.setInteger(y0 + static_cast<int>(q));
+  for (std::size_t c = 0; c < chords; ++c) solver.setInteger(r0 + static_cast<int>(c));
   CbcModel model(solver);
   model.messageHandler()->setLogLevel(0);
   CbcSolverUsefulData data;
@@ -158,6 +211,21 @@ IntervalSolution solve_interval_assignment(const IntervalProblem& problem) {
       return total;
     };
     solution.mapped[f] = side_sum(0) == side_sum(2) && side_sum(1) == side_sum(3) ? 1 : 0;
+  }
+  solution.polar.assign(polar, 0);
+  solution.chord_segments.assign(polar, {});
+  for (std::size_t q = 0; q < polar; ++q) {
+    const IntervalProblem::Polar& blocks = problem.polar[q];
+    const std::size_t k = blocks.sides.size();
+    std::vector<Index>& r = solution.chord_segments[q];
+    for (std::size_t i = 0; i < k; ++i) r.push_back(static_cast<Index>(std::lround(best[r0 + chord_offset[q] + i])));
+    bool holds = true;
+    for (std::size_t i = 0; i < k; ++i) {
+      std::uint64_t side = 0;
+      for (const Index e : blocks.sides[i]) side += solution.counts[e];
+      holds = holds && r[i] >= 1 && side == r[(i + k - 1) % k] + r[(i + 1) % k];
+    }
+    solution.polar[q] = holds ? 1 : 0;
   }
   solution.solved = true;
   return solution;

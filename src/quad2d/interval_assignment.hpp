@@ -22,12 +22,23 @@ struct IntervalProblem {
     std::array<std::vector<Index>, 4> sides;  ///< edges of each side, in loop order
   };
   std::vector<FourSided> four_sided;  ///< parts to make mappable where possible
+  /// Parts with n >= 3 corners to cut into n blocks around a centre (polar_mesh()):
+  /// side i (corner i to i+1) must have r_{i-1} + r_{i+1} segments, r_i >= 1 the
+  /// segments of the chord from side i's split point to the centre.
+  struct Polar {
+    std::size_t part = 0;
+    std::vector<std::vector<Index>> sides;  ///< edges of each side, in loop order
+    std::vector<double> chord_ideal;        ///< per chord: its length / size
+  };
+  std::vector<Polar> polar;
 };
 
 struct IntervalSolution {
-  bool solved = false;               ///< false: the caller falls back to rounding + parity repair
-  std::vector<Index> counts;         ///< per edge
-  std::vector<std::uint8_t> mapped;  ///< per four_sided entry: opposite sides match
+  bool solved = false;                             ///< false: the caller falls back to rounding + parity repair
+  std::vector<Index> counts;                       ///< per edge
+  std::vector<std::uint8_t> mapped;                ///< per four_sided entry: opposite sides match
+  std::vector<std::uint8_t> polar;                 ///< per polar entry: the block counts hold
+  std::vector<std::vector<Index>> chord_segments;  ///< per polar entry: r_i
 };
 
 /// Minimises the summed relative deviation |n_e - ideal_e| / max(1, ideal_e) minus a

@@ -132,14 +132,16 @@ std::vector<PavedPart> pave_parts(const Quad2dSetup& setup, std::span<const std:
             // interior singular vertex); paving when the map would fold.
             const auto& corners = setup.sampled.part_corners[p];
             std::optional<PavedPart> mapped;
-            if (corners[0] >= 0) {
+            if (!setup.sampled.part_polar.empty() && !setup.sampled.part_polar[p].corners.empty()) {
+              mapped = polar_mesh(boundary, setup.sampled.part_polar[p]);
+            } else if (corners[0] >= 0) {
               mapped =
                   mapped_mesh(boundary, {static_cast<std::size_t>(corners[0]), static_cast<std::size_t>(corners[1]),
                                          static_cast<std::size_t>(corners[2]), static_cast<std::size_t>(corners[3])});
             }
             if (mapped) {
               paved[p] = std::move(*mapped);
-              paved[p].stats.mapped = 1;
+              if (paved[p].stats.polar == 0) paved[p].stats.mapped = 1;
             } else {
               paved[p] = pave(boundary, paving);
             }
@@ -189,6 +191,7 @@ Quad2dResult mesh_region_quads(const Polygon2& region, const Quad2dOptions& opti
     report.paving.templates += part.stats.templates;
     report.paving.fallback_loops += part.stats.fallback_loops;
     report.paving.mapped += part.stats.mapped;
+    report.paving.polar += part.stats.polar;
   }
   paved.clear();
   paved.shrink_to_fit();

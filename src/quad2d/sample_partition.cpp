@@ -34,6 +34,8 @@ constexpr double kCornerTurn = 25.0 * std::numbers::pi / 180.0;
 constexpr double kCornerAngle = 150.0 * std::numbers::pi / 180.0;
 constexpr double kSideAngleMin = 100.0 * std::numbers::pi / 180.0;
 constexpr double kSideAngleMax = 1.25 * std::numbers::pi;
+// Polar blocks for parts with 3..8 corners (more: the centre sees too much).
+constexpr std::size_t kMaxPolarCorners = 8;
 
 // A curve as pieces between kept vertices: piece i runs from polyline vertex
 // breaks[i] to breaks[i+1] and gets segments[i] segments.
@@ -350,6 +352,22 @@ SampledPartition sample_partition(const Partition& partition, double size) {
       loop_edges[p].push_back(std::move(loop));
     }
   const auto edge_id = [&](const LoopEdge& e) { return static_cast<Index>(edge_offset[e.curve] + e.piece); };
+  const auto edge_start = [](const std::vector<CurvePlan>& all, const LoopEdge& e) {
+    const CurvePlan& plan = all[e.curve];
+    return plan.polyline[plan.breaks[e.piece + (e.forward ? 0 : 1)]];
+  };
+  // The point at arc length s along the loop from the start of loop edge `first`.
+  const auto side_point = [](const std::vector<CurvePlan>& all, const std::vector<LoopEdge>& loop, std::size_t first,
+                             double s) {
+    for (std::size_t k = first;; k = (k + 1) % loop.size()) {
+      const CurvePlan& plan = all[loop[k].curve];
+      const std::size_t from = plan.breaks[loop[k].piece], to = plan.breaks[loop[k].piece + 1];
+      const double length = plan.lengths[loop[k].piece];
+      if (s <= length || (k + 1) % loop.size() == first)
+        return point_at(plan.polyline, from, to, loop[k].forward ? std::min(s, length) : length - std::min(s, length));
+      s -= length;
+    }
+  };
 
   // Four-sided parts: one loop, exactly four corners (interior angle < 135°) and every
   // other break between 150° and 225°, where the part can be a structured grid.
@@ -362,7 +380,8 @@ SampledPartition sample_partition(const Partition& partition, double size) {
       if (plans[c].closed && plans[c].segments.size() == 1) problem.minimum[edge_offset[c] + i] = 3;
     }
   problem.part_edges.resize(parts);
-  std::vector<std::array<std::size_t, 4>> corner_edges;  // per four_sided entry: loop edge index of each corner
+  std::vector<std::array<std::size_t, 4>> corner_edges;      // per four_sided entry: loop edge index of each corner
+  std::vector<std::vector<std::size_t>> polar_corner_edges;  // per polar entry
   for (std::size_t p = 0; p < parts; ++p) {
     for (const auto& loop : loop_edges[p])
       for (const LoopEdge& e : loop) problem.part_edges[p].push_back(edge_id(e));
@@ -379,8 +398,34 @@ SampledPartition sample_partition(const Partition& partition, double size) {
     }
     std::vector<std::pair<double, std::size_t>> sorted = angles;
     std::stable_sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    if (sorted[3].first >= kCornerAngle || sorted.back().first > kSideAngleMax) continue;
-    if (sorted.size() > 4 && sorted[4].first < kSideAngleMin) continue;
+    if (sorted.back().first > kSideAngleMax) continue;  // reflex: paving
+    const bool four_sided = sorted.size() >= 4 && sorted[3].first < kCornerAngle &&
+                            (sorted.size() == 4 || sorted[4].first >= kSideAngleMin);
+    if (!four_sided) {
+      // Polar blocks: the corners are the breaks below 150°.
+      std::vector<std::size_t> corners;
+      for (std::size_t k = 0; k < angles.size(); ++k)
+        if (angles[k].first < kCornerAngle) corners.push_back(k);
+      if (corners.size() < 3 || corners.size() > kMaxPolarCorners) continue;
+      quad2d::IntervalProblem::Polar blocks;
+      blocks.part = p;
+      blocks.sides.resize(corners.size());
+      // Chord lengths: from each side's arc-length midpoint to the mean of the corners.
+      Vec2 centre = Vec2::Zero();
+      for (const std::size_t k : corners) centre += edge_start(plans, loop[k]);
+      centre /= static_cast<double>(corners.size());
+      for (std::size_t i = 0; i < corners.size(); ++i) {
+        double length = 0;
+        for (std::size_t k = corners[i]; k != corners[(i + 1) % corners.size()]; k = (k + 1) % loop.size()) {
+          blocks.sides[i].push_back(edge_id(loop[k]));
+          length += plans[loop[k].curve].lengths[loop[k].piece];
+        }
+        blocks.chord_ideal.push_back((side_point(plans, loop, corners[i], 0.5 * length) - centre).norm() / size);
+      }
+      problem.polar.push_back(std::move(blocks));
+      polar_corner_edges.push_back(std::move(corners));
+      continue;
+    }
     std::vector<std::size_t> corners;
     for (int i = 0; i < 4; ++i) corners.push_back(sorted[static_cast<std::size_t>(i)].second);
     std::sort(corners.begin(), corners.end());
@@ -393,7 +438,7 @@ SampledPartition sample_partition(const Partition& partition, double size) {
     corner_edges.push_back({corners[0], corners[1], corners[2], corners[3]});
   }
   quad2d::IntervalSolution assignment;
-  if (!problem.four_sided.empty()) assignment = quad2d::solve_interval_assignment(problem);
+  if (!problem.four_sided.empty() || !problem.polar.empty()) assignment = quad2d::solve_interval_assignment(problem);
   if (assignment.solved) {
     for (std::size_t c = 0; c < curves; ++c)
       for (std::size_t i = 0; i < plans[c].segments.size(); ++i)
@@ -476,6 +521,25 @@ SampledPartition sample_partition(const Partition& partition, double size) {
     for (std::size_t k = 0; k < loop.size(); ++k)
       start[k + 1] = start[k] + plans[loop[k].curve].segments[loop[k].piece];
     for (int i = 0; i < 4; ++i) sampled.part_corners[p][i] = start[corner_edges[f][i]];
+  }
+  sampled.part_polar.assign(parts, {});
+  for (std::size_t q = 0; q < problem.polar.size() && assignment.solved; ++q) {
+    if (!assignment.polar[q]) continue;
+    const std::size_t p = problem.polar[q].part;
+    const std::vector<LoopEdge>& loop = loop_edges[p][0];
+    std::vector<std::int64_t> start(loop.size() + 1, 0);
+    for (std::size_t k = 0; k < loop.size(); ++k)
+      start[k + 1] = start[k] + plans[loop[k].curve].segments[loop[k].piece];
+    const std::int64_t n = start[loop.size()];
+    const std::vector<Index>& r = assignment.chord_segments[q];
+    const std::size_t k = r.size();
+    PolarBlocks& blocks = sampled.part_polar[p];
+    for (std::size_t i = 0; i < k; ++i) {
+      const std::int64_t corner = start[polar_corner_edges[q][i]];
+      blocks.corners.push_back(corner);
+      blocks.splits.push_back((corner + r[(i + k - 1) % k]) % n);  // side i's first part has r_{i-1} segments
+      blocks.chord_segments.push_back(r[i]);
+    }
   }
   return sampled;
 }

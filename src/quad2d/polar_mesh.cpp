@@ -1,0 +1,119 @@
+// polar_mesh(): midpoint subdivision of an n-cornered part into n four-sided
+// blocks around a centre point, each meshed as a structured grid (mapped_mesh()).
+// Paving a part leaves a trail of singular vertices where its fronts collide; this
+// block structure has exactly one, the centre (valence n), and the split points on
+// the sides meet the neighbour's grid with valence 4. The segment counts that make
+// every block's opposite sides match come from the interval assignment
+// (sample_partition()).
+#include "structmesh/error.hpp"
+#include "structmesh/quad2d.hpp"
+
+#include <string>
+
+namespace structmesh {
+
+namespace {
+
+bool inside(const std::span<const Vec2> ring, const Vec2& p) {
+  bool in = false;
+  for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
+    const Vec2& a = ring[i];
+    const Vec2& b = ring[j];
+    if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x())
+      in = !in;
+  }
+  return in;
+}
+
+Vec2 area_centroid(const std::span<const Vec2> ring) {
+  // Relative to the first point: no cancellation with large (metre) coordinates.
+  const Vec2 o = ring[0];
+  double area = 0;
+  Vec2 sum = Vec2::Zero();
+  for (std::size_t i = 1; i + 1 < ring.size(); ++i) {
+    const Vec2 a = ring[i] - o, b = ring[i + 1] - o;
+    const double cross = a.x() * b.y() - a.y() * b.x();
+    area += cross;
+    sum += cross * (a + b);
+  }
+  return o + sum / (3.0 * area);
+}
+
+}  // namespace
+
+std::optional<PavedPart> polar_mesh(const Polygon2& boundary, const PolarBlocks& blocks,
+                                    const MappedMeshOptions& options) {
+  if (boundary.ring_count() != 1) throw InputError("polar_mesh: the part must have one loop (no holes)");
+  const std::span<const Vec2> ring = boundary.ring(0);
+  const auto n = static_cast<std::int64_t>(ring.size());
+  const std::size_t k = blocks.corners.size();
+  if (k < 3 || blocks.splits.size() != k || blocks.chord_segments.size() != k)
+    throw InputError("polar_mesh: need matching corners, splits and chord counts for at least 3 corners");
+  for (std::size_t i = 0; i < k; ++i) {
+    const std::int64_t corner = blocks.corners[i], split = blocks.splits[i];
+    const std::int64_t next = i + 1 < k ? blocks.corners[i + 1] : blocks.corners[0] + n;
+    const std::int64_t split_unwrapped = split < corner ? split + n : split;
+    if (corner < 0 || corner >= n || (i > 0 && corner <= blocks.corners[i - 1]) || split < 0 || split >= n ||
+        !(corner < split_unwrapped && split_unwrapped < next) || blocks.chord_segments[i] < 1)
+      throw InputError("polar_mesh: inconsistent block " + std::to_string(i));
+    if (split_unwrapped - corner != blocks.chord_segments[(i + k - 1) % k] ||
+        next - split_unwrapped != blocks.chord_segments[(i + 1) % k])
+      throw InputError("polar_mesh: block " + std::to_string(i) + " has unequal opposite sides");
+  }
+  const Vec2 centre = area_centroid(ring);
+  if (!inside(ring, centre)) return std::nullopt;
+
+  PavedPart result;
+  result.points.assign(ring.begin(), ring.end());
+  const auto centre_index = static_cast<Index>(result.points.size());
+  result.points.push_back(centre);
+  // chord[i][j]: point j of chord i from the split point (j = 0) to the centre (j = r).
+  std::vector<std::vector<Index>> chord(k);
+  for (std::size_t i = 0; i < k; ++i) {
+    const Index r = blocks.chord_segments[i];
+    const Vec2 start = ring[static_cast<std::size_t>(blocks.splits[i])];
+    chord[i].push_back(static_cast<Index>(blocks.splits[i]));
+    for (Index j = 1; j < r; ++j) {
+      chord[i].push_back(static_cast<Index>(result.points.size()));
+      result.points.push_back(start + (centre - start) * (static_cast<double>(j) / r));
+    }
+    chord[i].push_back(centre_index);
+  }
+
+  for (std::size_t i = 0; i < k; ++i) {
+    // Block i, counter-clockwise: split i-1 along the boundary past corner i to
+    // split i, up chord i to the centre, down chord i-1.
+    const std::size_t previous = (i + k - 1) % k;
+    std::vector<Index> loop;
+    std::array<std::size_t, 4> corners{};
+    corners[0] = 0;
+    for (std::int64_t p = blocks.splits[previous];; p = (p + 1) % n) {
+      if (p == blocks.corners[i]) corners[1] = loop.size();
+      loop.push_back(static_cast<Index>(p));
+      if (p == blocks.splits[i]) break;
+    }
+    corners[2] = loop.size() - 1;
+    for (std::size_t j = 1; j < chord[i].size(); ++j) loop.push_back(chord[i][j]);
+    corners[3] = loop.size() - 1;
+    for (std::size_t j = chord[previous].size() - 2; j >= 1; --j) loop.push_back(chord[previous][j]);
+    Polygon2 block;
+    std::vector<Vec2> block_ring;
+    block_ring.reserve(loop.size());
+    for (const Index v : loop) block_ring.push_back(result.points[v]);
+    block.add_ring(block_ring);
+    std::optional<PavedPart> grid = mapped_mesh(block, corners, options);
+    if (!grid) return std::nullopt;
+    // Block-local points: its loop first, then its interior points.
+    std::vector<Index> global(loop.begin(), loop.end());
+    for (std::size_t j = loop.size(); j < grid->points.size(); ++j) {
+      global.push_back(static_cast<Index>(result.points.size()));
+      result.points.push_back(grid->points[j]);
+    }
+    for (const auto& quad : grid->quads)
+      result.quads.push_back({global[quad[0]], global[quad[1]], global[quad[2]], global[quad[3]]});
+  }
+  result.stats.polar = 1;
+  return result;
+}
+
+}  // namespace structmesh
