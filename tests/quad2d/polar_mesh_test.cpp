@@ -1,0 +1,147 @@
+#include "quad2d/interval_assignment.hpp"
+#include "structmesh/error.hpp"
+#include "structmesh/quad2d.hpp"
+#include "structmesh/quality.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <numbers>
+
+namespace structmesh {
+namespace {
+
+// A regular k-gon of circumradius 1 with `per_side` segments on every side.
+Polygon2 regular_polygon(int k, int per_side) {
+  std::vector<Vec2> ring;
+  for (int i = 0; i < k; ++i) {
+    const double a = 2 * std::numbers::pi * i / k, b = 2 * std::numbers::pi * (i + 1) / k;
+    const Vec2 p(std::cos(a), std::sin(a)), q(std::cos(b), std::sin(b));
+    for (int j = 0; j < per_side; ++j) ring.push_back(p + (q - p) * (static_cast<double>(j) / per_side));
+  }
+  Polygon2 polygon;
+  polygon.add_ring(ring);
+  return polygon;
+}
+
+// Blocks of a regular k-gon with an even number of segments per side: split in the
+// middle, every chord per_side / 2 segments.
+PolarBlocks regular_blocks(int k, int per_side) {
+  PolarBlocks blocks;
+  for (int i = 0; i < k; ++i) {
+    blocks.corners.push_back(i * per_side);
+    blocks.splits.push_back(i * per_side + per_side / 2);
+    blocks.chord_segments.push_back(static_cast<Index>(per_side / 2));
+  }
+  return blocks;
+}
+
+void expect_valid_polar(const Polygon2& polygon, const PavedPart& part, int k) {
+  // Input points first, bit-identical.
+  for (std::size_t i = 0; i < polygon.points.size(); ++i) ASSERT_EQ(part.points[i], polygon.points[i]);
+  QuadMesh mesh;
+  for (const Vec2& p : part.points) mesh.points.emplace_back(p.x(), p.y(), 0.0);
+  mesh.quads = part.quads;
+  const QuadQuality quality = quad_quality(mesh);
+  EXPECT_EQ(quality.inverted, 0U);
+  EXPECT_GT(quality.scaled_jacobian_stats.min, 0.3);
+  // The centre is the only interior singular vertex (none when k = 4).
+  EXPECT_EQ(quality.singular_vertices, k == 4 ? 0U : 1U);
+  const EdgeAdjacency edges = build_edges(mesh);
+  std::size_t boundary = 0;
+  for (std::size_t e = 0; e < edges.edges.size(); ++e) {
+    const std::size_t uses = edges.edge_elements.row(e).size();
+    ASSERT_TRUE(uses == 1 || uses == 2);
+    if (uses == 1) {
+      ++boundary;
+      // Every boundary edge is an input edge.
+      const auto [a, b] = edges.edges[e];
+      const std::size_t n = polygon.points.size();
+      ASSERT_TRUE(a < n && b < n && (b == a + 1 || (a == 0 && b == n - 1))) << a << " " << b;
+    }
+  }
+  EXPECT_EQ(boundary, polygon.points.size());
+  EXPECT_NEAR(quad_mesh_area(mesh), area(polygon), 1e-9 * area(polygon));
+}
+
+TEST(PolarMesh, RegularPolygonsHaveOneSingularCentre) {
+  for (const int k : {3, 4, 5, 6, 8}) {
+    SCOPED_TRACE(k);
+    const Polygon2 polygon = regular_polygon(k, 8);
+    const std::optional<PavedPart> part = polar_mesh(polygon, regular_blocks(k, 8));
+    ASSERT_TRUE(part.has_value());
+    expect_valid_polar(polygon, *part, k);
+    EXPECT_EQ(part->quads.size(), static_cast<std::size_t>(k) * 16U);
+  }
+}
+
+TEST(PolarMesh, RejectsInconsistentBlocks) {
+  const Polygon2 polygon = regular_polygon(5, 8);
+  PolarBlocks blocks = regular_blocks(5, 8);
+  blocks.chord_segments[2] = 3;  // side 1 would need 4 + 3 segments, it has 8
+  EXPECT_THROW(polar_mesh(polygon, blocks), InputError);
+  blocks = regular_blocks(5, 8);
+  blocks.splits[0] = blocks.corners[0];
+  EXPECT_THROW(polar_mesh(polygon, blocks), InputError);
+  blocks = regular_blocks(5, 8);
+  blocks.corners.pop_back();
+  EXPECT_THROW(polar_mesh(polygon, blocks), InputError);
+}
+
+TEST(PolarMesh, CentreOutsideGivesNothing) {
+  // A thin crescent-like pentagon whose centroid lies outside it.
+  std::vector<Vec2> ring;
+  const int per_side = 6;
+  const std::vector<Vec2> corners{{0, 0}, {4, 0}, {4, 4}, {3.9, 0.1}, {0, 0.1}};
+  for (std::size_t i = 0; i < corners.size(); ++i)
+    for (int j = 0; j < per_side; ++j)
+      ring.push_back(corners[i] + (corners[(i + 1) % corners.size()] - corners[i]) * (double(j) / per_side));
+  Polygon2 polygon;
+  polygon.add_ring(ring);
+  ASSERT_GT(signed_area(polygon.ring(0)), 0);
+  const std::optional<PavedPart> part = polar_mesh(polygon, regular_blocks(5, per_side));
+  if (part) expect_valid_polar(polygon, *part, 5);  // if meshed at all, then validly
+}
+
+TEST(IntervalAssignment, MakesOppositeSidesMatchAndPartsEven) {
+  // Two unit squares side by side, sides of ideal length 10, 10, 10 and the shared
+  // one; the top/bottom of the right square are 13 long: matching forces the
+  // left square's opposite sides equal and the right one's too.
+  quad2d::IntervalProblem problem;
+  // edges: 0 bottom-left, 1 shared, 2 top-left, 3 left, 4 bottom-right, 5 right, 6 top-right
+  problem.ideal = {10, 10, 10.4, 10, 13, 9.6, 12.6};
+  problem.minimum.assign(7, 1);
+  problem.part_edges = {{0, 1, 2, 3}, {4, 5, 6, 1}};
+  problem.four_sided.push_back({0, {{{0}, {1}, {2}, {3}}}});
+  problem.four_sided.push_back({1, {{{4}, {5}, {6}, {1}}}});
+  const quad2d::IntervalSolution s = quad2d::solve_interval_assignment(problem);
+  ASSERT_TRUE(s.solved);
+  EXPECT_EQ(s.mapped, (std::vector<std::uint8_t>{1, 1}));
+  EXPECT_EQ(s.counts[0], s.counts[2]);
+  EXPECT_EQ(s.counts[1], s.counts[3]);
+  EXPECT_EQ(s.counts[4], s.counts[6]);
+  EXPECT_EQ(s.counts[5], s.counts[1]);
+  // Every count within one segment of its ideal.
+  for (std::size_t e = 0; e < 7; ++e) EXPECT_LE(std::abs(double(s.counts[e]) - problem.ideal[e]), 1.0) << e;
+}
+
+TEST(IntervalAssignment, PolarPentagonCountsHold) {
+  quad2d::IntervalProblem problem;
+  problem.ideal = {7.2, 8.1, 6.9, 7.7, 8.4};  // one edge per side
+  problem.minimum.assign(5, 1);
+  problem.part_edges = {{0, 1, 2, 3, 4}};
+  quad2d::IntervalProblem::Polar polar;
+  polar.part = 0;
+  polar.sides = {{0}, {1}, {2}, {3}, {4}};
+  polar.chord_ideal = {4, 4, 4, 4, 4};
+  problem.polar.push_back(polar);
+  const quad2d::IntervalSolution s = quad2d::solve_interval_assignment(problem);
+  ASSERT_TRUE(s.solved);
+  ASSERT_EQ(s.polar, (std::vector<std::uint8_t>{1}));
+  const auto& r = s.chord_segments[0];
+  for (std::size_t i = 0; i < 5; ++i) EXPECT_EQ(s.counts[i], r[(i + 4) % 5] + r[(i + 1) % 5]) << i;
+}
+
+}  // namespace
+}  // namespace structmesh
