@@ -140,6 +140,7 @@ void push_to_copies(const Exchange& exchange, int components, Get get, Set set) 
 
 RelaxComm make_comm(const Exchange& exchange) {
   RelaxComm comm;
+  comm.exchanges = true;
   comm.sync_points = [&exchange](std::vector<Vec3>& values) {
     push_to_copies<double>(
         exchange, 3, [&](Index v, int c) { return values[v][c]; }, [&](Index v, int c, double x) { values[v][c] = x; });

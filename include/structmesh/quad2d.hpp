@@ -182,6 +182,7 @@ struct RelaxComm {
   std::function<bool(bool)> any = [](bool value) { return value; };
   std::function<double(double)> max = [](double value) { return value; };
   std::function<std::size_t(std::size_t)> sum = [](std::size_t value) { return value; };
+  bool exchanges = false;  ///< true when the hooks really exchange (more than one process)
 };
 
 /// relax_near_separators() on one process's piece; with the same inputs split over

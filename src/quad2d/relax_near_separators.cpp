@@ -104,6 +104,12 @@ RelaxStats relax_piece(RelaxPiece& piece, const RelaxOptions& options, const Rel
         break;
       }
 
+  std::vector<Index> zone_slot(piece.quads.size(), kInvalidIndex);  // quad -> index in zone_quads
+  for (std::size_t i = 0; i < zone_quads.size(); ++i) zone_slot[zone_quads[i]] = static_cast<Index>(i);
+  std::vector<Index> moving_vertices;  // every copy that may move, owned or not
+  for (Index v = 0; v < n; ++v)
+    if (moving[v]) moving_vertices.push_back(v);
+  std::vector<std::uint8_t> before_and;
   static const Vec3 up(0, 0, 1);
   const auto jacobian = [&](const std::array<Index, 4>& quad, auto&& position) {
     std::array<Vec3, 4> corners;
@@ -128,21 +134,40 @@ RelaxStats relax_piece(RelaxPiece& piece, const RelaxOptions& options, const Rel
       quality_before[i] = jacobian(piece.quads[zone_quads[i]], [&](Index v) { return piece.points[v]; });
     });
     const auto proposed = [&](Index v) { return accepted[v] ? proposal[v] : piece.points[v]; };
-    // Refusal rounds: each round reads the previous round's acceptances only.
-    std::vector<Index> refuse;
+    // Refusal rounds: each round reads the previous round's acceptances only. The
+    // first round checks every zone quad, later ones only the quads around the
+    // vertices whose acceptance changed.
+    std::vector<Index> check(zone_quads.size());
+    std::iota(check.begin(), check.end(), Index{0});
+    std::vector<std::uint8_t> bad;
+    std::vector<Index> refuse, changed;
     while (true) {
+      bad.assign(check.size(), 0);
+      tbb::parallel_for(std::size_t{0}, check.size(), [&](std::size_t i) {
+        const double after = jacobian(piece.quads[zone_quads[check[i]]], proposed);
+        bad[i] = !(after > 0 && after >= std::min(quality_before[check[i]], kQualityFloor));
+      });
       refuse.clear();
-      for (std::size_t i = 0; i < zone_quads.size(); ++i) {
-        const auto& quad = piece.quads[zone_quads[i]];
-        const double after = jacobian(quad, proposed);
-        if (after > 0 && after >= std::min(quality_before[i], kQualityFloor)) continue;
-        for (const Index v : quad)
-          if (accepted[v]) refuse.push_back(v);
-      }
+      for (std::size_t i = 0; i < check.size(); ++i)
+        if (bad[i])
+          for (const Index v : piece.quads[zone_quads[check[i]]])
+            if (accepted[v]) refuse.push_back(v);
       for (const Index v : refuse) accepted[v] = 0;
       // A vertex stays accepted only if no copy refused it.
       if (!comm.any(!refuse.empty())) break;
-      comm.and_flags(accepted);
+      changed = refuse;
+      if (comm.exchanges) {
+        before_and.assign(accepted.begin(), accepted.end());
+        comm.and_flags(accepted);
+        for (const Index v : moving_vertices)
+          if (before_and[v] != accepted[v]) changed.push_back(v);
+      }
+      check.clear();
+      for (const Index v : changed)
+        for (const Index q : vertex_quads.row(v))
+          if (zone_slot[q] != kInvalidIndex) check.push_back(zone_slot[q]);
+      std::sort(check.begin(), check.end());
+      check.erase(std::unique(check.begin(), check.end()), check.end());
     }
     double largest_move = 0;
     for (const Index v : zone) {

@@ -66,6 +66,7 @@ struct SharedMemory {
 
 RelaxComm shared_comm(SharedMemory& shared, const RelaxPiece& piece, int process) {
   RelaxComm comm;
+  comm.exchanges = true;
   const auto r = static_cast<std::size_t>(process);
   comm.sync_points = [&shared, &piece](std::vector<Vec3>& values) {
     for (std::size_t v = 0; v < values.size(); ++v)
