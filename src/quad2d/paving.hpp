@@ -197,12 +197,12 @@ class Paver {
 
   // --- smoothing (paving_smooth.cpp)
   void smooth_points(std::span<const Index> pts, int sweeps);
-  /// Moves an interior point towards the isoparametric (parallelogram) average of its
-  /// quads when that does not lower the worst quad below min(its old value, 0.5);
+  /// Moves an interior point towards the mean of its edge neighbours (Laplacian) when
+  /// that does not lower the worst quad around it below min(its old value, 0.5);
   /// returns the distance moved.
   double smooth_point(Index p);
   /// Pattern search maximising the minimum scaled Jacobian of the quads around p.
-  bool optimize_point(Index p);
+  bool optimize_point(Index p, double step_scale = 0.15);
   void final_smoothing();
   /// Removes every interior point of valence 2 by merging its two quads.
   void collapse_doublets();

@@ -12,14 +12,15 @@ namespace structmesh::paving {
 double Paver::smooth_point(Index p) {
   if (p < mesh_.fixed_count || mesh_.first_record[p] == kInvalidIndex) return 0;
   if (p < point_fronts_.size() && point_fronts_[p] != 0) return 0;
-  // Isoparametric average: each quad proposes the point completing its parallelogram.
+  // Laplacian: the mean of the edge neighbours (each quad holds two of them; every
+  // edge is counted twice, once per quad). On a grid this keeps the grid.
   Vec2 target(0, 0);
   int count = 0;
   mesh_.for_each_quad(p, [&](Index q) {
     const auto& v = mesh_.quads[q];
     for (int j = 0; j < 4; ++j) {
       if (v[j] != p) continue;
-      target += mesh_.points[v[(j + 1) % 4]] + mesh_.points[v[(j + 3) % 4]] - mesh_.points[v[(j + 2) % 4]];
+      target += 0.5 * (mesh_.points[v[(j + 1) % 4]] + mesh_.points[v[(j + 3) % 4]]);
       ++count;
     }
   });
@@ -44,7 +45,7 @@ void Paver::smooth_points(std::span<const Index> pts, int sweeps) {
     for (const Index p : pts) smooth_point(p);
 }
 
-bool Paver::optimize_point(Index p) {
+bool Paver::optimize_point(Index p, double step_scale) {
   if (p < mesh_.fixed_count || mesh_.first_record[p] == kInvalidIndex) return false;
   Vec2 at = mesh_.points[p];
   double now = mesh_.min_quality_around(p, at);
@@ -59,7 +60,7 @@ bool Paver::optimize_point(Index p) {
       }
   });
   if (count == 0) return false;
-  double step = 0.15 * len / count;
+  double step = step_scale * len / count;
   bool improved_any = false;
   static constexpr double kDiag = 0.70710678118654752;
   const double smallest = 0.01 * step;
@@ -133,6 +134,26 @@ void Paver::final_smoothing() {
       for (const Index v : q) any |= optimize_point(v);
     }
     if (!any) break;
+  }
+  // Untangling: quads still (nearly) inverted get their free points, and those of the
+  // quads around them, optimised with longer steps.
+  for (int pass = 0; pass < 30; ++pass) {
+    std::vector<Index> pts;
+    for (const auto& q : mesh_.quads) {
+      if (q[0] == kInvalidIndex) continue;
+      const auto& P = mesh_.points;
+      if (scaled_jacobian(P[q[0]], P[q[1]], P[q[2]], P[q[3]]) > 0.05) continue;
+      for (const Index v : q) {
+        pts.push_back(v);
+        mesh_.for_each_quad(v, [&](Index r) {
+          for (const Index w : mesh_.quads[r]) pts.push_back(w);
+        });
+      }
+    }
+    if (pts.empty()) break;
+    std::sort(pts.begin(), pts.end());
+    pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+    for (const Index v : pts) optimize_point(v, pass % 2 == 0 ? 0.5 : 0.15);
   }
 }
 
