@@ -38,6 +38,9 @@ struct PavingStats {
   std::size_t splits = 0;          // front loops split or joined by a chord
   std::size_t templates = 0;       // small loops closed by a template
   std::size_t fallback_loops = 0;  // loops closed by the fallback (not by paving)
+  /// 1 when the first run failed (a quad it could not untangle, a loop nothing closed)
+  /// and a run with a slightly different target size gave this mesh.
+  std::size_t retries = 0;
 };
 
 struct PavedPart {

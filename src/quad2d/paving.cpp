@@ -154,8 +154,27 @@ PavedPart Paver::run() {
 }  // namespace paving
 
 PavedPart pave(const Polygon2& boundary, const PavingOptions& options) {
-  paving::Paver paver(boundary, options);
-  return paver.run();
+  // Every paving decision depends on the target size: when a run ends with a quad it
+  // could not untangle or a loop nothing closes, a run with a slightly different size
+  // takes other decisions and almost always succeeds (deterministic: fixed factors).
+  std::string first_error;
+  double size = 0;
+  for (const double factor : {1.0, 0.95, 1.06, 0.9, 1.12}) {
+    PavingOptions o = options;
+    if (factor != 1.0) o.size = size * factor;
+    paving::Paver paver(boundary, o);
+    size = paver.size();
+    try {
+      PavedPart part = paver.run();
+      part.stats.retries = first_error.empty() ? 0 : 1;
+      return part;
+    } catch (const InputError&) {
+      throw;
+    } catch (const Error& e) {
+      if (first_error.empty()) first_error = e.what();
+    }
+  }
+  throw Error(first_error + " (and with target sizes up to 12% off)");
 }
 
 }  // namespace structmesh

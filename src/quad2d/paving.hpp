@@ -143,6 +143,7 @@ class Paver {
  public:
   Paver(const Polygon2& boundary, const PavingOptions& options);
   PavedPart run();
+  double size() const { return size_; }
 
  private:
   // --- front (paving_front.cpp)
