@@ -27,12 +27,14 @@ double Paver::smooth_point(Index p) {
   if (count == 0) return 0;
   target /= count;
   const Vec2 now = mesh_.points[p];
-  const double before = mesh_.min_quality_around(p, now);
-  const double floor = std::min(before, 0.5);
+  // The quads around must stay above min(their worst now, 0.5): the worst now is only
+  // needed when the move would go below 0.5.
+  double floor = -1;
   for (const double f : {1.0, 0.5}) {
     const Vec2 to = now + f * (target - now);
     const double after = mesh_.min_quality_around(p, to);
-    if (after > 0 && after >= floor) {
+    if (after < 0.5 && floor < 0) floor = std::min(mesh_.min_quality_around(p, now), 0.5);
+    if (after > 0 && after >= std::min(floor < 0 ? 0.5 : floor, 0.5)) {
       mesh_.points[p] = to;
       return (to - now).norm();
     }
@@ -108,7 +110,7 @@ void Paver::final_smoothing() {
   const auto total = static_cast<Index>(mesh_.points.size());
   std::vector<std::uint8_t> active(total, 0), next(total, 0);
   for (Index p = mesh_.fixed_count; p < total; ++p) active[p] = 1;
-  const double still = 1e-3 * size_;
+  const double still = 5e-3 * size_;
   for (int sweep = 0; sweep < options_.final_smoothing_iterations; ++sweep) {
     bool any = false;
     std::fill(next.begin(), next.end(), 0);
