@@ -131,6 +131,9 @@ struct Loop {
   double area = 0;  // signed: > 0 for the outer boundary of an unmeshed component
   bool alive = false;
   int stuck = 0;  // consecutive steps without progress
+  /// Parts of the front may face each other within a few sizes (the last row saw a
+  /// short gap or failed somewhere): only then are chord splits searched.
+  bool narrow = true;
 };
 
 /// A slot of a quad being added: an existing front node or a planned new point.

@@ -122,7 +122,7 @@ class TemplateSearch {
     const Tiling* winner = nullptr;
     double best_score = -1e300;
     best_min = -1;
-    for (std::size_t r = 0; r < quick.size() && r < 4; ++r) {
+    for (std::size_t r = 0; r < quick.size() && r < 2; ++r) {
       Tiling& t = tilings_[quick[r].second];
       for (int sweep = 0; sweep < 4 && !t.extra.empty(); ++sweep)
         for (std::size_t e = 0; e < t.extra.size(); ++e) optimize(t, static_cast<int>(n_ + e), 12);

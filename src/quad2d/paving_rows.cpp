@@ -107,6 +107,7 @@ bool Paver::row(Index loop) {
   // (an odd number of layers fits) the layer is thinned so that the remaining gap is
   // a whole number of layers.
   std::vector<Vec2> side_pos(n);
+  bool narrow = false;
   for (std::size_t i = 0; i < n; ++i) {
     const Vec2 p = pos(nodes[i]);
     const Vec2 dn = (pos(nodes[nx(i)]) - p).normalized();
@@ -115,6 +116,7 @@ bool Paver::row(Index loop) {
     if (type[i] == NodeType::Side) {
       const double gap = ray_gap(nodes[i], dir, 3.6 * d[i]);
       if (gap >= 2.5 * d[i] && gap < 3.5 * d[i]) dist = std::min(dist, gap / 3);
+      narrow |= gap < 3.5 * d[i];
     }
     side_pos[i] = p + dist * dir;
   }
@@ -257,26 +259,31 @@ bool Paver::row(Index loop) {
 
   // Glue the layer in front order.
   constexpr double kMinRowQuality = 0.2;
-  std::size_t added = 0;
+  std::size_t added = 0, attempted = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t j = nx(i);
     const double di = d[i];
     if (out_count[i] >= 3) {
       for (Index t = 0; t + 2 < out_count[i]; t += 2) {
         const Index o = out_begin[i] + t;
+        ++attempted;
         added += try_quad({existing(i), planned(o + 2), planned(o + 1), planned(o)}, kMinRowQuality, di);
       }
     }
     if (type[i] == NodeType::End || type[i] == NodeType::Tuck) continue;
     if (type[j] == NodeType::End || type[j] == NodeType::Tuck) {
       const double q = type[j] == NodeType::Tuck ? 0.02 : 0.1;
+      ++attempted;
       added += try_quad({existing(i), existing(j), existing(nx(j)), planned(last_out(i))}, q, di);
     } else {
       const Slot a = planned(first_out(j)), b = planned(last_out(i));
       if (a.id == b.id) continue;
+      ++attempted;
       added += try_quad({existing(i), existing(j), a, b}, kMinRowQuality, di);
     }
   }
+  if (added < attempted) narrow = true;
+  if (loops_[loop].alive) loops_[loop].narrow = narrow;
   if (added > 0) ++stats_.rows;
   return added > 0;
 }
@@ -478,6 +485,7 @@ bool Paver::splits(Index loop) {
     int interior;
     bool join;
   };
+  if (!loops_[loop].narrow && loops_[loop].size > 24) return false;
   const std::vector<Index> nodes = loop_nodes(loop);
   const std::size_t n = nodes.size();
   if (n < 6) return false;
