@@ -73,6 +73,7 @@ Paver::Paver(const Polygon2& boundary, const PavingOptions& options) : options_(
 
 bool Paver::step(Index loop) {
   const Loop& l = loops_[loop];
+  if (std::abs(l.area) < 1e-9 * size_ * size_ && remove_slit(loop)) return true;
   if (l.area > 0 && l.size <= 8 && !contains_open_hole(loop) && close_with_template(loop)) return true;
   if (splits(loop)) return true;
   if (seams(loop)) return true;
@@ -82,6 +83,21 @@ bool Paver::step(Index loop) {
     return true;
   }
   return clip_ear(loop);
+}
+
+bool Paver::remove_slit(Index loop) {
+  // A loop of zero area whose every edge is matched by the reverse edge (what is left
+  // of a chord between two closed sides) bounds nothing: its edges are interior edges.
+  std::vector<std::pair<Index, Index>> edges;
+  for (const Index v : loop_nodes(loop)) edges.emplace_back(node_point_[v], node_point_[node_next_[v]]);
+  std::vector<std::pair<Index, Index>> sorted = edges;
+  std::sort(sorted.begin(), sorted.end());
+  for (const auto& [a, b] : edges)
+    if (!std::binary_search(sorted.begin(), sorted.end(), std::make_pair(b, a))) return false;
+  for (const Index v : loop_nodes(loop)) kill_node(v);
+  loops_[loop].alive = false;
+  loops_[loop].size = 0;
+  return true;
 }
 
 PavedPart Paver::run() {

@@ -197,7 +197,9 @@ class Paver {
   bool close_with_ring(Index loop);
   void fallback(Index loop);
   bool contains_open_hole(Index loop) const;
+  bool hole_inside(Index hole, Index loop, const std::vector<Vec2>& ring) const;
   bool step(Index loop);
+  bool remove_slit(Index loop);
 
   // --- smoothing (paving_smooth.cpp)
   void smooth_points(std::span<const Index> pts, int sweeps);

@@ -171,7 +171,7 @@ class TemplateSearch {
       area += quad_area(at(t, q[0]), at(t, q[1]), at(t, q[2]), at(t, q[3]));
     }
     if (worst <= 0.02 || std::abs(area - polygon_area) > 1e-9 * std::abs(polygon_area) + 1e-300) return -1e300;
-    return worst + 0.5 * total / static_cast<double>(t.quads.size()) - 0.02 * static_cast<double>(t.extra.size());
+    return worst + 0.5 * total / static_cast<double>(t.quads.size()) - 0.2 * static_cast<double>(t.extra.size());
   }
   void optimize(Tiling& t, int ref, int iterations) {
     Vec2& p = t.extra[ref - n_];
@@ -228,13 +228,23 @@ bool inside_ring(const std::vector<Vec2>& ring, const Vec2& p) {
 
 }  // namespace
 
+bool Paver::hole_inside(Index hole, Index loop, const std::vector<Vec2>& ring) const {
+  // Test a point of the hole's loop that is not on `loop` (they may touch at a point).
+  std::vector<Index> on_loop;
+  for (const Index v : loop_nodes(loop)) on_loop.push_back(node_point_[v]);
+  std::sort(on_loop.begin(), on_loop.end());
+  for (const Index v : loop_nodes(hole))
+    if (!std::binary_search(on_loop.begin(), on_loop.end(), node_point_[v])) return inside_ring(ring, pos(v));
+  return false;
+}
+
 bool Paver::contains_open_hole(Index loop) const {
   std::vector<Vec2> ring;
   for (Index l = 0; l < loops_.size(); ++l) {
     if (l == loop || !loops_[l].alive || loops_[l].area >= 0) continue;
     if (ring.empty())
       for (const Index v : loop_nodes(loop)) ring.push_back(pos(v));
-    if (inside_ring(ring, pos(loops_[l].head))) return true;
+    if (hole_inside(l, loop, ring)) return true;
   }
   return false;
 }
@@ -356,8 +366,7 @@ void Paver::fallback(Index loop) {
     std::vector<Vec2> ring;
     for (const Index v : loop_nodes(loop)) ring.push_back(pos(v));
     for (Index l = 0; l < loops_.size(); ++l)
-      if (l != loop && loops_[l].alive && loops_[l].area < 0 && inside_ring(ring, pos(loops_[l].head)))
-        loop_ids.push_back(l);
+      if (l != loop && loops_[l].alive && loops_[l].area < 0 && hole_inside(l, loop, ring)) loop_ids.push_back(l);
   }
   Polygon2 region;
   std::vector<Index> point_of;  // polygon point -> mesh point

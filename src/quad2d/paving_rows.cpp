@@ -129,10 +129,10 @@ bool Paver::row(Index loop) {
       if (type[pv(i)] != NodeType::Side || type[nx(i)] != NodeType::Side) continue;
       if (last < n && i - last < 4) continue;
       const double len = 0.5 * ((side_pos[nx(i)] - side_pos[i]).norm() + (side_pos[i] - side_pos[pv(i)]).norm());
-      if (len < 0.55 * size_) {
+      if (len < 0.45 * size_) {
         type[i] = NodeType::Tuck;
         last = i;
-      } else if (len > 1.6 * size_) {
+      } else if (len > 1.8 * size_) {
         type[i] = NodeType::Wedge;
         last = i;
       }
