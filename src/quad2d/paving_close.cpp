@@ -85,6 +85,24 @@ class TemplateSearch {
         enumerate(pending, std::move(t), allow_chord_point);
       }
     }
+    // Hexagon with two interior points of valence 3 (an edge between them, each joined
+    // to two boundary nodes): the tiling for hexagons with a reflex node.
+    if (m == 6 && allow_chord_point) {
+      Vec2 c(0, 0);
+      for (const int v : poly) c += at(base, v) / 6.0;
+      for (int s = 0; s < 3; ++s) {
+        Tiling t = base;
+        const int c1 = static_cast<int>(n_ + t.extra.size()), c2 = c1 + 1;
+        auto p = [&](int k) { return poly[(s + k) % 6]; };
+        t.extra.push_back(0.6 * c + 0.4 * at(base, p(1)));
+        t.extra.push_back(0.6 * c + 0.4 * at(base, p(4)));
+        t.quads.push_back({p(0), p(1), p(2), c1});
+        t.quads.push_back({p(2), p(3), c2, c1});
+        t.quads.push_back({p(3), p(4), p(5), c2});
+        t.quads.push_back({p(5), p(0), c1, c2});
+        enumerate(pending, std::move(t), allow_chord_point);
+      }
+    }
     // Chords with one interior node splitting 8 into 6 + 6.
     if (m == 8 && allow_chord_point) {
       for (int i = 0; i < 4; ++i) {
