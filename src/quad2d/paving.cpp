@@ -71,12 +71,17 @@ Paver::Paver(const Polygon2& boundary, const PavingOptions& options) : options_(
   }
 }
 
+constexpr Index kEarLoop = 12;
+
 bool Paver::step(Index loop) {
   const Loop& l = loops_[loop];
   if (std::abs(l.area) < 1e-9 * size_ * size_ && remove_slit(loop)) return true;
   if (l.area > 0 && l.size <= 8 && !contains_open_hole(loop) && close_with_template(loop)) return true;
   if (splits(loop)) return true;
   if (seams(loop)) return true;
+  // Small loops: a whole row would leave notches that no template closes; cut the
+  // best-shaped quad off instead.
+  if (l.area > 0 && l.size <= kEarLoop && clip_ear(loop)) return true;
   if (row(loop)) {
     smooth_points(released_, options_.smoothing_iterations);
     released_.clear();
