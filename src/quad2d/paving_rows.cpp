@@ -226,20 +226,21 @@ bool Paver::row(Index loop) {
   }
   // Paved-boundary smoothing of the new layer: a side node's new point moves towards
   // the mean of its neighbours' new points, which damps any zigzag of the front
-  // before the next layer copies it (Blacker & Stephenson §4).
+  // before the next layer copies it (the paved-boundary smoothing of Blacker & Stephenson).
   {
     std::vector<Vec2> smoothed(n);
+    std::vector<std::uint8_t> movable(n, 0);
+    for (std::size_t i = 0; i < n; ++i)
+      movable[i] = type[i] == NodeType::Side && out_count[pv(i)] != 0 && out_count[nx(i)] != 0;
     for (int sweep = 0; sweep < 2; ++sweep) {
       for (std::size_t i = 0; i < n; ++i) {
-        smoothed[i] = Vec2(0, 0);
-        if (type[i] != NodeType::Side || out_count[pv(i)] == 0 || out_count[nx(i)] == 0) continue;
-        const Index self = find(out_begin[i]);
+        if (!movable[i]) continue;
         const Vec2& left = planned_pos_[find(last_out(pv(i)))];
         const Vec2& right = planned_pos_[find(first_out(nx(i)))];
-        smoothed[i] = 0.5 * planned_pos_[self] + 0.25 * (left + right);
+        smoothed[i] = 0.5 * planned_pos_[find(out_begin[i])] + 0.25 * (left + right);
       }
       for (std::size_t i = 0; i < n; ++i)
-        if (smoothed[i] != Vec2(0, 0)) planned_pos_[find(out_begin[i])] = smoothed[i];
+        if (movable[i]) planned_pos_[find(out_begin[i])] = smoothed[i];
     }
   }
   auto planned = [&](Index k) { return Slot{true, find(k)}; };
