@@ -1,7 +1,13 @@
 // pave(): all-quad mesh of one part by advancing-front paving (Blacker & Stephenson
-// 1991; dissertation §3.3.1). The driver: input checks, the front loops, the work
-// queue of loops (template, chord splits, seams, a row, or the fallback), the final
-// smoothing and the output with the input points first.
+// 1991; dissertation §3.3.1). The driver: input checks, the front loops, and a work
+// queue of loops. Each step on a loop does the first of: close it with a template
+// (<= 8 nodes), drop it if it is a zero-area slit, split it (or join a hole's loop to
+// it) with a chord where its sides face each other, seam a sharp angle, cut an ear
+// off a small loop, or pave one row. A loop that makes no progress twice gets a ring
+// closure or, failing that, the triangulate-and-match fallback. Then doublets are
+// collapsed, all interior points smoothed and the worst quads optimised; the output
+// holds the input points first. A run that still fails is repeated with a slightly
+// different target size before an Error is thrown.
 #include "quad2d/paving.hpp"
 
 #include "structmesh/error.hpp"

@@ -198,6 +198,10 @@ class Paver {
   void fallback(Index loop);
   bool contains_open_hole(Index loop) const;
   bool hole_inside(Index hole, Index loop, const std::vector<Vec2>& ring) const;
+
+  // --- the driver (paving.cpp)
+  /// One step on a loop: template, slit removal, chord splits, seams, ear clipping of
+  /// small loops, or a row; false when nothing could be done.
   bool step(Index loop);
   bool remove_slit(Index loop);
 
