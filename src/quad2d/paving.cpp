@@ -73,6 +73,7 @@ Paver::Paver(const Polygon2& boundary, const PavingOptions& options) : options_(
     }
     set_next(last, first);
     loop.head = first;
+    if (loop.area < 0) negative_loops_.push_back(id);
     loops_.push_back(loop);
   }
 }

@@ -227,6 +227,7 @@ class Paver {
   std::vector<std::uint8_t> node_alive_;
   std::vector<std::uint32_t> point_fronts_;  // per point: live front nodes on it
   std::vector<Loop> loops_;
+  std::vector<Index> negative_loops_;  // loops created with negative area (holes), dead or alive
   std::vector<Vec2> planned_pos_;
   std::vector<Index> planned_node_;
   std::vector<Index> index_of_;  // scratch: position of a node along its loop (splits)

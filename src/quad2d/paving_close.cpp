@@ -258,7 +258,7 @@ bool Paver::hole_inside(Index hole, Index loop, const std::vector<Vec2>& ring) c
 
 bool Paver::contains_open_hole(Index loop) const {
   std::vector<Vec2> ring;
-  for (Index l = 0; l < loops_.size(); ++l) {
+  for (const Index l : negative_loops_) {
     if (l == loop || !loops_[l].alive || loops_[l].area >= 0) continue;
     if (ring.empty())
       for (const Index v : loop_nodes(loop)) ring.push_back(pos(v));
@@ -383,7 +383,7 @@ void Paver::fallback(Index loop) {
   {
     std::vector<Vec2> ring;
     for (const Index v : loop_nodes(loop)) ring.push_back(pos(v));
-    for (Index l = 0; l < loops_.size(); ++l)
+    for (const Index l : negative_loops_)
       if (l != loop && loops_[l].alive && loops_[l].area < 0 && hole_inside(l, loop, ring)) loop_ids.push_back(l);
   }
   Polygon2 region;

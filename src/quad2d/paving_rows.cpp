@@ -473,6 +473,8 @@ bool Paver::apply_chord(Index a, Index b, int interior, bool join) {
     old.area -= fresh.area;
     old.head = x_short ? b2 : a;
     old.stuck = 0;
+    if (fresh.area < 0) negative_loops_.push_back(id);
+    if (old.area < 0) negative_loops_.push_back(la);
     loops_.push_back(fresh);
   }
   ++stats_.splits;
