@@ -248,11 +248,19 @@ bool inside_ring(const std::vector<Vec2>& ring, const Vec2& p) {
 
 bool Paver::hole_inside(Index hole, Index loop, const std::vector<Vec2>& ring) const {
   // Test a point of the hole's loop that is not on `loop` (they may touch at a point).
-  std::vector<Index> on_loop;
-  for (const Index v : loop_nodes(loop)) on_loop.push_back(node_point_[v]);
-  std::sort(on_loop.begin(), on_loop.end());
-  for (const Index v : loop_nodes(hole))
-    if (!std::binary_search(on_loop.begin(), on_loop.end(), node_point_[v])) return inside_ring(ring, pos(v));
+  const Index head = loops_[hole].head;
+  Index v = head;
+  do {
+    const Index p = node_point_[v];
+    bool on_loop = false;
+    for (Index u = loops_[loop].head;;) {
+      on_loop |= node_point_[u] == p;
+      u = node_next_[u];
+      if (u == loops_[loop].head || on_loop) break;
+    }
+    if (!on_loop) return inside_ring(ring, pos(v));
+    v = node_next_[v];
+  } while (v != head);
   return false;
 }
 
