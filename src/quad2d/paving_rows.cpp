@@ -498,8 +498,13 @@ bool Paver::splits(Index loop) {
   if (index_of.size() < node_next_.size()) index_of.resize(node_next_.size());
   for (std::size_t i = 0; i < n; ++i) index_of[nodes[i]] = static_cast<Index>(i);
 
-  std::vector<double> alpha(n), dloc(n);
+  // Chords start only at nodes of angle >= 0.8π: a cheap test (no atan2) first.
+  const double cos_turn = std::cos(0.2 * kPi);
+  std::vector<double> alpha(n, 0), dloc(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
+    const Vec2& p = pos(nodes[i]);
+    const Vec2 in = p - pos(node_prev_[nodes[i]]), out = pos(node_next_[nodes[i]]) - p;
+    if (cross(in, out) > 0 && in.dot(out) < cos_turn * in.norm() * out.norm()) continue;  // turns left > 36°
     alpha[i] = interior_angle(nodes[i]);
     dloc[i] = local_size(nodes[i]);
   }
