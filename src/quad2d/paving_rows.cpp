@@ -259,7 +259,7 @@ bool Paver::row(Index loop) {
   }
 
   // Glue the layer in front order.
-  constexpr double kMinRowQuality = 0.2;
+  constexpr double kMinRowQuality = 0.35;
   std::size_t added = 0, attempted = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t j = nx(i);
@@ -332,7 +332,7 @@ bool Paver::clip_ear(Index loop) {
 }
 
 bool Paver::seams(Index loop) {
-  constexpr double kSeamAngle = 50.0 / 180.0 * kPi;
+  constexpr double kSeamAngle = 60.0 / 180.0 * kPi;
   bool any = false;
   const std::vector<Index> nodes = loop_nodes(loop);
   for (const Index v : nodes) {
