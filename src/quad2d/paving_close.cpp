@@ -126,6 +126,25 @@ class TemplateSearch {
   /// Scores every tiling after a quick placement of its interior points, optimises
   /// the most promising ones fully, and returns the best valid one.
   const Tiling* best(double polygon_area, double& best_min) {
+    // A good tiling without interior points (no new singular vertex) ends the search.
+    {
+      const Tiling* plain = nullptr;
+      double plain_score = -1e300, plain_min = -1;
+      for (const Tiling& t : tilings_) {
+        if (!t.extra.empty()) continue;
+        double worst = 0;
+        const double sc = score(t, polygon_area, worst);
+        if (sc > plain_score) {
+          plain_score = sc;
+          plain_min = worst;
+          plain = &t;
+        }
+      }
+      if (plain != nullptr && plain_min >= 0.7) {
+        best_min = plain_min;
+        return plain;
+      }
+    }
     std::vector<std::pair<double, std::size_t>> quick;
     for (std::size_t k = 0; k < tilings_.size(); ++k) {
       Tiling& t = tilings_[k];
