@@ -152,6 +152,7 @@ PavedPart Paver::run() {
   }
   released_.clear();
   collapse_doublets();
+  collapse_diamonds();
   final_smoothing();
 
   // Output: the input points, then the new points still in use, in creation order.

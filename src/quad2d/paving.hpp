@@ -216,6 +216,8 @@ class Paver {
   void final_smoothing();
   /// Removes every interior point of valence 2 by merging its two quads.
   void collapse_doublets();
+  /// Collapses quads between two valence-3 points where that lowers the singular count.
+  void collapse_diamonds();
 
   void emit_quad(const std::array<Index, 4>& q);
 

@@ -85,6 +85,73 @@ bool Paver::optimize_point(Index p, double step_scale) {
   return improved_any;
 }
 
+void Paver::collapse_diamonds() {
+  // Cleanup: a quad whose two opposite corners a, c are interior points of valence 3
+  // collapses along that diagonal; the merged point has valence 4 and the other two
+  // corners lose one quad. Done only where the number of singular points drops and the
+  // quads around stay valid. One pass locks the points it touches (counts stay exact);
+  // the records are rebuilt after each pass.
+  const auto total = static_cast<Index>(mesh_.points.size());
+  for (int pass = 0; pass < 4; ++pass) {
+    std::vector<int> valence(total, 0);
+    for (const auto& q : mesh_.quads)
+      if (q[0] != kInvalidIndex)
+        for (const Index v : q) ++valence[v];
+    std::vector<std::uint8_t> locked(total, 0);
+    std::vector<Index> merged_into(total, kInvalidIndex);
+    auto singular = [&](Index v, int val) { return v >= mesh_.fixed_count && val != 4; };
+    bool any = false;
+    for (Index id = 0; id < mesh_.quads.size(); ++id) {
+      const auto q = mesh_.quads[id];
+      if (q[0] == kInvalidIndex) continue;
+      for (int s = 0; s < 2; ++s) {
+        const Index a = q[s], b = q[s + 1], c = q[s + 2], d = q[(s + 3) % 4];
+        if (a < mesh_.fixed_count || c < mesh_.fixed_count || valence[a] != 3 || valence[c] != 3) continue;
+        if (locked[a] || locked[b] || locked[c] || locked[d]) continue;
+        if (valence[b] < 3 || valence[d] < 3) continue;  // b, d keep at least 2 quads
+        const int before = 2 + singular(b, valence[b]) + singular(d, valence[d]);
+        const int after = singular(b, valence[b] - 1) + singular(d, valence[d] - 1);
+        if (after >= before) continue;
+        // Geometry: every other quad of a and c with both at the midpoint stays valid.
+        const Vec2 mid = 0.5 * (mesh_.points[a] + mesh_.points[c]);
+        bool ok = true;
+        for (const Index p : {a, c}) {
+          mesh_.for_each_quad(p, [&](Index r) {
+            if (r == id || !ok || mesh_.quads[r][0] == kInvalidIndex) return;
+            std::array<Vec2, 4> corners;
+            int hits = 0;
+            for (int j = 0; j < 4; ++j) {
+              const Index v = mesh_.quads[r][j];
+              if (v == a || v == c) ++hits;
+              corners[j] = (v == a || v == c) ? mid : mesh_.points[v];
+            }
+            if (hits > 1 || scaled_jacobian(corners[0], corners[1], corners[2], corners[3]) < 0.1) ok = false;
+          });
+        }
+        if (!ok) continue;
+        mesh_.points[a] = mid;
+        merged_into[c] = a;
+        mesh_.quads[id] = {kInvalidIndex, kInvalidIndex, kInvalidIndex, kInvalidIndex};
+        for (const Index v : {a, b, c, d}) locked[v] = 1;
+        for (const Index p : {a, c}) {
+          mesh_.for_each_quad(p, [&](Index r) {
+            if (mesh_.quads[r][0] == kInvalidIndex) return;
+            for (const Index v : mesh_.quads[r]) locked[v] = 1;
+          });
+        }
+        any = true;
+        break;
+      }
+    }
+    if (!any) break;
+    for (auto& q : mesh_.quads)
+      if (q[0] != kInvalidIndex)
+        for (Index& v : q)
+          if (merged_into[v] != kInvalidIndex) v = merged_into[v];
+    mesh_.rebuild_records();
+  }
+}
+
 void Paver::collapse_doublets() {
   bool any = false;
   for (Index p = mesh_.fixed_count; p < mesh_.points.size(); ++p) {
