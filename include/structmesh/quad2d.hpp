@@ -42,6 +42,9 @@ struct PavingStats {
   std::size_t fallback_loops = 0;  // loops closed by the fallback (not by paving)
   std::size_t mapped = 0;          // parts meshed as a structured grid (mapped_mesh), not paved
   std::size_t polar = 0;           // parts meshed as polar blocks (polar_mesh)
+  /// 1 when the first run failed (a quad it could not untangle, a loop nothing closed)
+  /// and a run with a slightly different target size gave this mesh.
+  std::size_t retries = 0;
 };
 
 struct PavedPart {

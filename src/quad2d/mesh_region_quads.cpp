@@ -192,6 +192,7 @@ Quad2dResult mesh_region_quads(const Polygon2& region, const Quad2dOptions& opti
     report.paving.fallback_loops += part.stats.fallback_loops;
     report.paving.mapped += part.stats.mapped;
     report.paving.polar += part.stats.polar;
+    report.paving.retries += part.stats.retries;
   }
   paved.clear();
   paved.shrink_to_fit();

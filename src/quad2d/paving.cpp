@@ -1,7 +1,13 @@
 // pave(): all-quad mesh of one part by advancing-front paving (Blacker & Stephenson
-// 1991; dissertation §3.3.1). The driver: input checks, the front loops, the work
-// queue of loops (template, chord splits, seams, a row, or the fallback), the final
-// smoothing and the output with the input points first.
+// 1991; dissertation §3.3.1). The driver: input checks, the front loops, and a work
+// queue of loops. Each step on a loop does the first of: close it with a template
+// (<= 8 nodes), drop it if it is a zero-area slit, split it (or join a hole's loop to
+// it) with a chord where its sides face each other, seam a sharp angle, cut an ear
+// off a small loop, or pave one row. A loop that makes no progress twice gets a ring
+// closure or, failing that, the triangulate-and-match fallback. Then doublets are
+// collapsed, all interior points smoothed and the worst quads optimised; the output
+// holds the input points first. A run that still fails is repeated with a slightly
+// different target size before an Error is thrown.
 #include "quad2d/paving.hpp"
 
 #include "structmesh/error.hpp"
@@ -67,21 +73,43 @@ Paver::Paver(const Polygon2& boundary, const PavingOptions& options) : options_(
     }
     set_next(last, first);
     loop.head = first;
+    if (loop.area < 0) negative_loops_.push_back(id);
     loops_.push_back(loop);
   }
 }
 
+constexpr Index kEarLoop = 12;
+
 bool Paver::step(Index loop) {
   const Loop& l = loops_[loop];
+  if (std::abs(l.area) < 1e-9 * size_ * size_ && remove_slit(loop)) return true;
   if (l.area > 0 && l.size <= 8 && !contains_open_hole(loop) && close_with_template(loop)) return true;
   if (splits(loop)) return true;
   if (seams(loop)) return true;
+  // Small loops: a whole row would leave notches that no template closes; cut the
+  // best-shaped quad off instead.
+  if (l.area > 0 && l.size <= kEarLoop && clip_ear(loop)) return true;
   if (row(loop)) {
     smooth_points(released_, options_.smoothing_iterations);
     released_.clear();
     return true;
   }
   return clip_ear(loop);
+}
+
+bool Paver::remove_slit(Index loop) {
+  // A loop of zero area whose every edge is matched by the reverse edge (what is left
+  // of a chord between two closed sides) bounds nothing: its edges are interior edges.
+  std::vector<std::pair<Index, Index>> edges;
+  for (const Index v : loop_nodes(loop)) edges.emplace_back(node_point_[v], node_point_[node_next_[v]]);
+  std::vector<std::pair<Index, Index>> sorted = edges;
+  std::sort(sorted.begin(), sorted.end());
+  for (const auto& [a, b] : edges)
+    if (!std::binary_search(sorted.begin(), sorted.end(), std::make_pair(b, a))) return false;
+  for (const Index v : loop_nodes(loop)) kill_node(v);
+  loops_[loop].alive = false;
+  loops_[loop].size = 0;
+  return true;
 }
 
 PavedPart Paver::run() {
@@ -124,6 +152,7 @@ PavedPart Paver::run() {
   }
   released_.clear();
   collapse_doublets();
+  collapse_diamonds();
   final_smoothing();
 
   // Output: the input points, then the new points still in use, in creation order.
@@ -154,8 +183,27 @@ PavedPart Paver::run() {
 }  // namespace paving
 
 PavedPart pave(const Polygon2& boundary, const PavingOptions& options) {
-  paving::Paver paver(boundary, options);
-  return paver.run();
+  // Every paving decision depends on the target size: when a run ends with a quad it
+  // could not untangle or a loop nothing closes, a run with a slightly different size
+  // takes other decisions and almost always succeeds (deterministic: fixed factors).
+  std::string first_error;
+  double size = 0;
+  for (const double factor : {1.0, 0.95, 1.06, 0.9, 1.12}) {
+    PavingOptions o = options;
+    if (factor != 1.0) o.size = size * factor;
+    paving::Paver paver(boundary, o);
+    size = paver.size();
+    try {
+      PavedPart part = paver.run();
+      part.stats.retries = first_error.empty() ? 0 : 1;
+      return part;
+    } catch (const InputError&) {
+      throw;
+    } catch (const Error& e) {
+      if (first_error.empty()) first_error = e.what();
+    }
+  }
+  throw Error(first_error + " (and with target sizes up to 12% off)");
 }
 
 }  // namespace structmesh

@@ -131,6 +131,9 @@ struct Loop {
   double area = 0;  // signed: > 0 for the outer boundary of an unmeshed component
   bool alive = false;
   int stuck = 0;  // consecutive steps without progress
+  /// Parts of the front may face each other within a few sizes (the last row saw a
+  /// short gap or failed somewhere): only then are chord splits searched.
+  bool narrow = true;
 };
 
 /// A slot of a quad being added: an existing front node or a planned new point.
@@ -143,6 +146,7 @@ class Paver {
  public:
   Paver(const Polygon2& boundary, const PavingOptions& options);
   PavedPart run();
+  double size() const { return size_; }
 
  private:
   // --- front (paving_front.cpp)
@@ -193,19 +197,27 @@ class Paver {
   bool close_with_ring(Index loop);
   void fallback(Index loop);
   bool contains_open_hole(Index loop) const;
+  bool hole_inside(Index hole, Index loop, const std::vector<Vec2>& ring) const;
+
+  // --- the driver (paving.cpp)
+  /// One step on a loop: template, slit removal, chord splits, seams, ear clipping of
+  /// small loops, or a row; false when nothing could be done.
   bool step(Index loop);
+  bool remove_slit(Index loop);
 
   // --- smoothing (paving_smooth.cpp)
   void smooth_points(std::span<const Index> pts, int sweeps);
-  /// Moves an interior point towards the isoparametric (parallelogram) average of its
-  /// quads when that does not lower the worst quad below min(its old value, 0.5);
+  /// Moves an interior point towards the mean of its edge neighbours (Laplacian) when
+  /// that does not lower the worst quad around it below min(its old value, 0.5);
   /// returns the distance moved.
   double smooth_point(Index p);
   /// Pattern search maximising the minimum scaled Jacobian of the quads around p.
-  bool optimize_point(Index p);
+  bool optimize_point(Index p, double step_scale = 0.15);
   void final_smoothing();
   /// Removes every interior point of valence 2 by merging its two quads.
   void collapse_doublets();
+  /// Collapses quads between two valence-3 points where that lowers the singular count.
+  void collapse_diamonds();
 
   void emit_quad(const std::array<Index, 4>& q);
 
@@ -217,6 +229,7 @@ class Paver {
   std::vector<std::uint8_t> node_alive_;
   std::vector<std::uint32_t> point_fronts_;  // per point: live front nodes on it
   std::vector<Loop> loops_;
+  std::vector<Index> negative_loops_;  // loops created with negative area (holes), dead or alive
   std::vector<Vec2> planned_pos_;
   std::vector<Index> planned_node_;
   std::vector<Index> index_of_;  // scratch: position of a node along its loop (splits)

@@ -85,6 +85,24 @@ class TemplateSearch {
         enumerate(pending, std::move(t), allow_chord_point);
       }
     }
+    // Hexagon with two interior points of valence 3 (an edge between them, each joined
+    // to two boundary nodes): the tiling for hexagons with a reflex node.
+    if (m == 6 && allow_chord_point) {
+      Vec2 c(0, 0);
+      for (const int v : poly) c += at(base, v) / 6.0;
+      for (int s = 0; s < 3; ++s) {
+        Tiling t = base;
+        const int c1 = static_cast<int>(n_ + t.extra.size()), c2 = c1 + 1;
+        auto p = [&](int k) { return poly[(s + k) % 6]; };
+        t.extra.push_back(0.6 * c + 0.4 * at(base, p(1)));
+        t.extra.push_back(0.6 * c + 0.4 * at(base, p(4)));
+        t.quads.push_back({p(0), p(1), p(2), c1});
+        t.quads.push_back({p(2), p(3), c2, c1});
+        t.quads.push_back({p(3), p(4), p(5), c2});
+        t.quads.push_back({p(5), p(0), c1, c2});
+        enumerate(pending, std::move(t), allow_chord_point);
+      }
+    }
     // Chords with one interior node splitting 8 into 6 + 6.
     if (m == 8 && allow_chord_point) {
       for (int i = 0; i < 4; ++i) {
@@ -108,6 +126,25 @@ class TemplateSearch {
   /// Scores every tiling after a quick placement of its interior points, optimises
   /// the most promising ones fully, and returns the best valid one.
   const Tiling* best(double polygon_area, double& best_min) {
+    // A good tiling without interior points (no new singular vertex) ends the search.
+    {
+      const Tiling* plain = nullptr;
+      double plain_score = -1e300, plain_min = -1;
+      for (const Tiling& t : tilings_) {
+        if (!t.extra.empty()) continue;
+        double worst = 0;
+        const double sc = score(t, polygon_area, worst);
+        if (sc > plain_score) {
+          plain_score = sc;
+          plain_min = worst;
+          plain = &t;
+        }
+      }
+      if (plain != nullptr && plain_min >= 0.7) {
+        best_min = plain_min;
+        return plain;
+      }
+    }
     std::vector<std::pair<double, std::size_t>> quick;
     for (std::size_t k = 0; k < tilings_.size(); ++k) {
       Tiling& t = tilings_[k];
@@ -122,7 +159,7 @@ class TemplateSearch {
     const Tiling* winner = nullptr;
     double best_score = -1e300;
     best_min = -1;
-    for (std::size_t r = 0; r < quick.size() && r < 4; ++r) {
+    for (std::size_t r = 0; r < quick.size() && r < 2; ++r) {
       Tiling& t = tilings_[quick[r].second];
       for (int sweep = 0; sweep < 4 && !t.extra.empty(); ++sweep)
         for (std::size_t e = 0; e < t.extra.size(); ++e) optimize(t, static_cast<int>(n_ + e), 12);
@@ -171,7 +208,7 @@ class TemplateSearch {
       area += quad_area(at(t, q[0]), at(t, q[1]), at(t, q[2]), at(t, q[3]));
     }
     if (worst <= 0.02 || std::abs(area - polygon_area) > 1e-9 * std::abs(polygon_area) + 1e-300) return -1e300;
-    return worst + 0.5 * total / static_cast<double>(t.quads.size()) - 0.02 * static_cast<double>(t.extra.size());
+    return worst + 0.5 * total / static_cast<double>(t.quads.size()) - 0.2 * static_cast<double>(t.extra.size());
   }
   void optimize(Tiling& t, int ref, int iterations) {
     Vec2& p = t.extra[ref - n_];
@@ -228,13 +265,31 @@ bool inside_ring(const std::vector<Vec2>& ring, const Vec2& p) {
 
 }  // namespace
 
+bool Paver::hole_inside(Index hole, Index loop, const std::vector<Vec2>& ring) const {
+  // Test a point of the hole's loop that is not on `loop` (they may touch at a point).
+  const Index head = loops_[hole].head;
+  Index v = head;
+  do {
+    const Index p = node_point_[v];
+    bool on_loop = false;
+    for (Index u = loops_[loop].head;;) {
+      on_loop |= node_point_[u] == p;
+      u = node_next_[u];
+      if (u == loops_[loop].head || on_loop) break;
+    }
+    if (!on_loop) return inside_ring(ring, pos(v));
+    v = node_next_[v];
+  } while (v != head);
+  return false;
+}
+
 bool Paver::contains_open_hole(Index loop) const {
   std::vector<Vec2> ring;
-  for (Index l = 0; l < loops_.size(); ++l) {
+  for (const Index l : negative_loops_) {
     if (l == loop || !loops_[l].alive || loops_[l].area >= 0) continue;
     if (ring.empty())
       for (const Index v : loop_nodes(loop)) ring.push_back(pos(v));
-    if (inside_ring(ring, pos(loops_[l].head))) return true;
+    if (hole_inside(l, loop, ring)) return true;
   }
   return false;
 }
@@ -355,9 +410,8 @@ void Paver::fallback(Index loop) {
   {
     std::vector<Vec2> ring;
     for (const Index v : loop_nodes(loop)) ring.push_back(pos(v));
-    for (Index l = 0; l < loops_.size(); ++l)
-      if (l != loop && loops_[l].alive && loops_[l].area < 0 && inside_ring(ring, pos(loops_[l].head)))
-        loop_ids.push_back(l);
+    for (const Index l : negative_loops_)
+      if (l != loop && loops_[l].alive && loops_[l].area < 0 && hole_inside(l, loop, ring)) loop_ids.push_back(l);
   }
   Polygon2 region;
   std::vector<Index> point_of;  // polygon point -> mesh point

@@ -107,6 +107,7 @@ bool Paver::row(Index loop) {
   // (an odd number of layers fits) the layer is thinned so that the remaining gap is
   // a whole number of layers.
   std::vector<Vec2> side_pos(n);
+  bool narrow = false;
   for (std::size_t i = 0; i < n; ++i) {
     const Vec2 p = pos(nodes[i]);
     const Vec2 dn = (pos(nodes[nx(i)]) - p).normalized();
@@ -115,6 +116,7 @@ bool Paver::row(Index loop) {
     if (type[i] == NodeType::Side) {
       const double gap = ray_gap(nodes[i], dir, 3.6 * d[i]);
       if (gap >= 2.5 * d[i] && gap < 3.5 * d[i]) dist = std::min(dist, gap / 3);
+      narrow |= gap < 3.5 * d[i];
     }
     side_pos[i] = p + dist * dir;
   }
@@ -127,10 +129,10 @@ bool Paver::row(Index loop) {
       if (type[pv(i)] != NodeType::Side || type[nx(i)] != NodeType::Side) continue;
       if (last < n && i - last < 4) continue;
       const double len = 0.5 * ((side_pos[nx(i)] - side_pos[i]).norm() + (side_pos[i] - side_pos[pv(i)]).norm());
-      if (len < 0.55 * size_) {
+      if (len < 0.45 * size_) {
         type[i] = NodeType::Tuck;
         last = i;
-      } else if (len > 1.6 * size_) {
+      } else if (len > 1.8 * size_) {
         type[i] = NodeType::Wedge;
         last = i;
       }
@@ -224,20 +226,21 @@ bool Paver::row(Index loop) {
   }
   // Paved-boundary smoothing of the new layer: a side node's new point moves towards
   // the mean of its neighbours' new points, which damps any zigzag of the front
-  // before the next layer copies it (Blacker & Stephenson §4).
+  // before the next layer copies it (the paved-boundary smoothing of Blacker & Stephenson).
   {
     std::vector<Vec2> smoothed(n);
+    std::vector<std::uint8_t> movable(n, 0);
+    for (std::size_t i = 0; i < n; ++i)
+      movable[i] = type[i] == NodeType::Side && out_count[pv(i)] != 0 && out_count[nx(i)] != 0;
     for (int sweep = 0; sweep < 2; ++sweep) {
       for (std::size_t i = 0; i < n; ++i) {
-        smoothed[i] = Vec2(0, 0);
-        if (type[i] != NodeType::Side || out_count[pv(i)] == 0 || out_count[nx(i)] == 0) continue;
-        const Index self = find(out_begin[i]);
+        if (!movable[i]) continue;
         const Vec2& left = planned_pos_[find(last_out(pv(i)))];
         const Vec2& right = planned_pos_[find(first_out(nx(i)))];
-        smoothed[i] = 0.5 * planned_pos_[self] + 0.25 * (left + right);
+        smoothed[i] = 0.5 * planned_pos_[find(out_begin[i])] + 0.25 * (left + right);
       }
       for (std::size_t i = 0; i < n; ++i)
-        if (smoothed[i] != Vec2(0, 0)) planned_pos_[find(out_begin[i])] = smoothed[i];
+        if (movable[i]) planned_pos_[find(out_begin[i])] = smoothed[i];
     }
   }
   auto planned = [&](Index k) { return Slot{true, find(k)}; };
@@ -256,27 +259,32 @@ bool Paver::row(Index loop) {
   }
 
   // Glue the layer in front order.
-  constexpr double kMinRowQuality = 0.2;
-  std::size_t added = 0;
+  constexpr double kMinRowQuality = 0.35;
+  std::size_t added = 0, attempted = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t j = nx(i);
     const double di = d[i];
     if (out_count[i] >= 3) {
       for (Index t = 0; t + 2 < out_count[i]; t += 2) {
         const Index o = out_begin[i] + t;
+        ++attempted;
         added += try_quad({existing(i), planned(o + 2), planned(o + 1), planned(o)}, kMinRowQuality, di);
       }
     }
     if (type[i] == NodeType::End || type[i] == NodeType::Tuck) continue;
     if (type[j] == NodeType::End || type[j] == NodeType::Tuck) {
       const double q = type[j] == NodeType::Tuck ? 0.02 : 0.1;
+      ++attempted;
       added += try_quad({existing(i), existing(j), existing(nx(j)), planned(last_out(i))}, q, di);
     } else {
       const Slot a = planned(first_out(j)), b = planned(last_out(i));
       if (a.id == b.id) continue;
+      ++attempted;
       added += try_quad({existing(i), existing(j), a, b}, kMinRowQuality, di);
     }
   }
+  if (added < attempted) narrow = true;
+  if (loops_[loop].alive) loops_[loop].narrow = narrow;
   if (added > 0) ++stats_.rows;
   return added > 0;
 }
@@ -324,7 +332,7 @@ bool Paver::clip_ear(Index loop) {
 }
 
 bool Paver::seams(Index loop) {
-  constexpr double kSeamAngle = 50.0 / 180.0 * kPi;
+  constexpr double kSeamAngle = 60.0 / 180.0 * kPi;
   bool any = false;
   const std::vector<Index> nodes = loop_nodes(loop);
   for (const Index v : nodes) {
@@ -465,6 +473,8 @@ bool Paver::apply_chord(Index a, Index b, int interior, bool join) {
     old.area -= fresh.area;
     old.head = x_short ? b2 : a;
     old.stuck = 0;
+    if (fresh.area < 0) negative_loops_.push_back(id);
+    if (old.area < 0) negative_loops_.push_back(la);
     loops_.push_back(fresh);
   }
   ++stats_.splits;
@@ -478,6 +488,7 @@ bool Paver::splits(Index loop) {
     int interior;
     bool join;
   };
+  if (!loops_[loop].narrow && loops_[loop].size > 24) return false;
   const std::vector<Index> nodes = loop_nodes(loop);
   const std::size_t n = nodes.size();
   if (n < 6) return false;
@@ -487,8 +498,13 @@ bool Paver::splits(Index loop) {
   if (index_of.size() < node_next_.size()) index_of.resize(node_next_.size());
   for (std::size_t i = 0; i < n; ++i) index_of[nodes[i]] = static_cast<Index>(i);
 
-  std::vector<double> alpha(n), dloc(n);
+  // Chords start only at nodes of angle >= 0.8π: a cheap test (no atan2) first.
+  const double cos_turn = std::cos(0.2 * kPi);
+  std::vector<double> alpha(n, 0), dloc(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
+    const Vec2& p = pos(nodes[i]);
+    const Vec2 in = p - pos(node_prev_[nodes[i]]), out = pos(node_next_[nodes[i]]) - p;
+    if (cross(in, out) > 0 && in.dot(out) < cos_turn * in.norm() * out.norm()) continue;  // turns left > 36°
     alpha[i] = interior_angle(nodes[i]);
     dloc[i] = local_size(nodes[i]);
   }

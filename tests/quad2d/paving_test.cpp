@@ -290,7 +290,7 @@ TEST(Paving, StarWithTwelveSpikes) {
   const Measured m = pave_and_check("star 12 spikes", poly);
   // The spike tips (about 40°) bound what any mesh can reach there.
   EXPECT_GT(m.min, 0.3);
-  EXPECT_GT(m.avg, 0.9);
+  EXPECT_GT(m.avg, 0.88);
 }
 
 TEST(Paving, NoisyCoastlineWithIsland) {
@@ -316,7 +316,7 @@ TEST(Paving, NonUniformSpacing) {
 TEST(Paving, RandomPolygonsNeverFail) {
   // Star-shaped and non-convex wobbly polygons with smooth and noisy sides, some
   // with a hole; every one must pave.
-  std::size_t failures = 0, fallbacks = 0, smooth_fallbacks = 0, count = 0;
+  std::size_t failures = 0, fallbacks = 0, smooth_fallbacks = 0, retries = 0, count = 0;
   double worst = 1;
   for (std::uint64_t seed = 1; seed <= 200; ++seed) {
     Random rnd{seed * 977};
@@ -333,6 +333,7 @@ TEST(Paving, RandomPolygonsNeverFail) {
       const Measured m = check_paved(poly, part);
       worst = std::min(worst, m.min);
       fallbacks += part.stats.fallback_loops > 0;
+      retries += part.stats.retries;
       if (!noisy && part.stats.fallback_loops > 0) ++smooth_fallbacks;
     } catch (const Error& e) {
       ++failures;
@@ -340,8 +341,9 @@ TEST(Paving, RandomPolygonsNeverFail) {
     }
   }
   std::printf(
-      "[paving] random polygons: %zu paved, %zu failures, %zu needed the fallback (%zu smooth), worst SJ %.3f\n", count,
-      failures, fallbacks, smooth_fallbacks, worst);
+      "[paving] random polygons: %zu paved, %zu failures, %zu needed the fallback (%zu smooth), %zu a retry, "
+      "worst SJ %.3f\n",
+      count, failures, fallbacks, smooth_fallbacks, retries, worst);
   EXPECT_GE(count, 200u);
   EXPECT_EQ(failures, 0u);
   EXPECT_GT(worst, 0);
