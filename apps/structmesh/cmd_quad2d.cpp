@@ -120,6 +120,8 @@ Action add_quad2d_command(CLI::App& command, const GlobalOptions& global) {
   command.add_option("--relax-iterations", o.relax.iterations, "Laplacian sweeps near the separators")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  command.add_flag("!--no-blocks", o.blocks,
+                   "Pave every part (the dissertation's mesher) instead of structured blocks where they fit");
   command.add_option("--segments", settings->segments, "Boundary segments of the built-in key or pipe")
       ->check(CLI::Range(std::size_t{16}, std::size_t{200'000'000}));
   command.add_option("--polygon", settings->polygon, "Which polygon of a multi-polygon file: INDEX or largest");

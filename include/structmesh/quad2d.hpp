@@ -69,7 +69,7 @@ PavedPart pave(const Polygon2& boundary, const PavingOptions& options = {});
 
 struct MappedMeshOptions {
   int smoothing_iterations = 200;    ///< elliptic (Winslow) smoothing sweeps of the interior
-  double min_scaled_jacobian = 0.2;  ///< below this anywhere: return std::nullopt (the caller paves instead)
+  double min_scaled_jacobian = 0.6;  ///< below this anywhere: return std::nullopt (the caller paves instead)
 };
 
 /// Structured mesh of a part whose single loop (ring 0 of `boundary`, counter-clockwise,
@@ -129,8 +129,8 @@ struct SampledPartition {
 /// together (interval assignment, an MILP with CBC) so that every part boundary has
 /// an even number of points (§3.3.1) and every four-sided part (four corners below
 /// 135°, no other break outside 150°..225°) has equal counts on opposite sides where
-/// that costs little; if CBC finds nothing, rounding plus a parity repair.
-SampledPartition sample_partition(const Partition& partition, double size);
+/// that costs little (blocks = true); if CBC finds nothing, rounding plus a parity repair.
+SampledPartition sample_partition(const Partition& partition, double size, bool blocks = true);
 
 /// The part's boundary as a Polygon2 for pave(), and the map from its points to
 /// the SampledPartition's point indices.
@@ -212,6 +212,10 @@ struct Quad2dOptions {
   bool auto_cells = true;
   PavingOptions paving;
   RelaxOptions relax;
+  /// Structured blocks where they fit: four-sided parts as one grid (mapped_mesh),
+  /// other parts with 3..8 corners as polar blocks (polar_mesh), paving for the
+  /// rest. false: the dissertation's paving of every part.
+  bool blocks = true;
   bool progress = false;
 };
 

@@ -60,8 +60,8 @@ IntervalSolution solve_interval_assignment(const IntervalProblem& problem) {
     // Element sizes stay within about [0.75, 1.33] of the wanted size (one segment
     // either way always allowed, so short edges can still match).
     const double rounded = std::max(1.0, std::round(t));
-    col_lo[n0 + e] = std::max<double>(problem.minimum[e], std::min(rounded - 1.0, std::floor(0.5 * t)));
-    col_hi[n0 + e] = std::max(rounded + 1.0, std::ceil(2.0 * t));
+    col_lo[n0 + e] = std::max<double>(problem.minimum[e], std::min(rounded - 1.0, std::floor(0.75 * t)));
+    col_hi[n0 + e] = std::max(rounded + 1.0, std::ceil(1.33 * t));
     objective[d0 + e] = 1.0 / std::max(1.0, t);
   }
   for (std::size_t f = 0; f < mapped; ++f) {

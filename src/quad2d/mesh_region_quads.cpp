@@ -99,7 +99,7 @@ Quad2dSetup setup_quad2d(const Polygon2& region, const Quad2dOptions& options, s
   setup.partition = partition_region(region, partition_options);
   setup.stage_seconds.emplace_back("partition", seconds_since(stage_start));
   stage_start = Clock::now();
-  setup.sampled = sample_partition(setup.partition, size);
+  setup.sampled = sample_partition(setup.partition, size, options.blocks);
   setup.size = size;
   setup.stage_seconds.emplace_back("sample", seconds_since(stage_start));
   return setup;

@@ -28,7 +28,7 @@ namespace {
 // A move may lower an incident quad's scaled Jacobian, as plain Laplacian smoothing
 // does, but not below this floor (nor below the quad's current value when that is
 // lower already), and never to an inverted quad.
-constexpr double kQualityFloor = 0.5;
+constexpr double kQualityFloor = 0.7;
 
 }  // namespace
 

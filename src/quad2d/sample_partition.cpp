@@ -318,7 +318,7 @@ double interior_angle(const CurvePlan& a_plan, std::size_t a, bool a_forward, co
 
 }  // namespace
 
-SampledPartition sample_partition(const Partition& partition, double size) {
+SampledPartition sample_partition(const Partition& partition, double size, bool blocks) {
   if (!(size > 0) || !std::isfinite(size)) throw InputError("sample_partition: the element size must be positive");
   const std::size_t parts = partition.part_loops.size();
   const std::size_t curves = partition.curves.size();
@@ -385,7 +385,7 @@ SampledPartition sample_partition(const Partition& partition, double size) {
   for (std::size_t p = 0; p < parts; ++p) {
     for (const auto& loop : loop_edges[p])
       for (const LoopEdge& e : loop) problem.part_edges[p].push_back(edge_id(e));
-    if (loop_edges[p].size() != 1 || loop_edges[p][0].size() < 4) continue;
+    if (!blocks || loop_edges[p].size() != 1 || loop_edges[p][0].size() < 3) continue;
     const std::vector<LoopEdge>& loop = loop_edges[p][0];
     // The four smallest interior angles are the corners when they are below 150°,
     // every other break is at least 100° (a side may bend) and none is reflex.
