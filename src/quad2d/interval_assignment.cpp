@@ -181,15 +181,15 @@ IntervalSolution solve_interval_assignment(const IntervalProblem& problem) {
   for (std::size_t f = 0; f < mapped; ++f) solver.setInteger(z0 + static_cast<int>(f));
   for (std::size_t q = 0; q < polar; ++q) solver.setInteger(y0 + static_cast<int>(q));
   for (std::size_t c = 0; c < chords; ++c) solver.setInteger(r0 + static_cast<int>(c));
+  // Plain branch and bound (CbcModel without the stand-alone solver's default cut
+  // generators and heuristics): these MILPs are small and their LP relaxations
+  // nearly integral, and the defaults cost far more than they find here.
+  solver.initialSolve();
   CbcModel model(solver);
   model.messageHandler()->setLogLevel(0);
-  CbcSolverUsefulData data;
-  data.noPrinting_ = true;
-  CbcMain0(model, data);
-  const std::string nodes = std::to_string(kNodeLimit);
-  const char* argv[] = {"cbc", "-log",      "0",           "-preprocess", "off",  "-cuts",
-                        "off", "-maxNodes", nodes.c_str(), "-solve",      "-quit"};
-  CbcMain1(11, argv, model, nullptr, data);
+  model.setMaximumNodes(kNodeLimit);
+  model.setLogLevel(0);
+  model.branchAndBound();
 
   IntervalSolution solution;
   const double* best = model.bestSolution();

@@ -5,6 +5,7 @@
 #include "partition2d/partition_internal.hpp"
 
 #include "structmesh/error.hpp"
+#include "structmesh/io.hpp"
 #include "structmesh/progress.hpp"
 #include "structmesh/quad2d.hpp"
 #include "structmesh/quality.hpp"
@@ -17,6 +18,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <memory>
 #include <numeric>
 #include <optional>
@@ -145,10 +147,15 @@ std::vector<PavedPart> pave_parts(const Quad2dSetup& setup, std::span<const std:
             } else {
               paved[p] = pave(boundary, paving);
             }
-          } catch (const InputError& e) {
-            throw Error("quad2d: part " + std::to_string(p) + ": " + e.what());
-          } catch (const Error& e) {
-            throw Error("quad2d: part " + std::to_string(p) + ": " + e.what());
+          } catch (const std::exception& e) {
+            // STRUCTMESH_DUMP_FAILED=DIR keeps the part's boundary for a bug report.
+            std::string kept;
+            if (const char* dir = std::getenv("STRUCTMESH_DUMP_FAILED")) {
+              const std::string path = std::string(dir) + "/part-" + std::to_string(p) + ".poly";
+              write_region(path, {boundary});
+              kept = " (boundary written to " + path + ")";
+            }
+            throw Error("quad2d: part " + std::to_string(p) + ": " + e.what() + kept);
           }
           part_seconds[p] = seconds_since(part_start);
           if (progress) progress->advance();

@@ -16,9 +16,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
+#include <limits>
 #include <map>
 #include <numbers>
-#include <queue>
 #include <string>
 
 namespace structmesh {
@@ -228,7 +229,8 @@ std::vector<std::size_t> curves_with_crossings(const std::vector<CurvePlan>& pla
 // Rounding leaves some parts odd: a T-join on a BFS tree of the graph parts +
 // outside (node `parts`), curves as edges; leaves first, an odd node flips the
 // curve to its parent (the outside absorbs any parity).
-void repair_parity(const Partition& partition, std::vector<CurvePlan>& plans, double size) {
+void repair_parity(const Partition& partition, std::vector<CurvePlan>& plans, double size,
+                   const std::vector<std::uint8_t>& avoid) {
   const std::size_t parts = partition.part_loops.size();
   const std::size_t curves = partition.curves.size();
   const auto part_parity = [&]() {
@@ -241,55 +243,62 @@ void repair_parity(const Partition& partition, std::vector<CurvePlan>& plans, do
         }
     return odd;
   };
-  {
-    std::vector<std::vector<std::pair<std::size_t, std::size_t>>> adjacent(parts + 1);  // (node, curve)
-    for (std::size_t c = 0; c < curves; ++c) {
-      const PartitionCurve& curve = partition.curves[c];
-      const std::size_t a = curve.left_part >= 0 ? static_cast<std::size_t>(curve.left_part) : parts;
-      const std::size_t b = curve.right_part >= 0 ? static_cast<std::size_t>(curve.right_part) : parts;
-      if (a == b) continue;
-      adjacent[a].emplace_back(b, c);
-      adjacent[b].emplace_back(a, c);
-    }
-    std::vector<std::size_t> order, parent_curve(parts + 1, curves), parent(parts + 1, parts + 1);
-    std::vector<std::uint8_t> seen(parts + 1, 0);
-    std::queue<std::size_t> queue;
-    // The outside is the root when the region has a boundary curve; every part is
-    // also a root of its own component if the graph is disconnected.
-    for (std::size_t root_index = 0; root_index <= parts; ++root_index) {
-      const std::size_t root = root_index == 0 ? parts : root_index - 1;
-      if (seen[root]) continue;
-      seen[root] = 1;
-      queue.push(root);
-      while (!queue.empty()) {
-        const std::size_t node = queue.front();
-        queue.pop();
-        order.push_back(node);
-        for (const auto& [next, curve] : adjacent[node]) {
-          if (seen[next]) continue;
-          seen[next] = 1;
-          parent[next] = node;
-          parent_curve[next] = curve;
-          queue.push(next);
-        }
+  std::vector<std::vector<std::pair<std::size_t, std::size_t>>> adjacent(parts + 1);  // (node, curve)
+  for (std::size_t c = 0; c < curves; ++c) {
+    const PartitionCurve& curve = partition.curves[c];
+    const std::size_t a = curve.left_part >= 0 ? static_cast<std::size_t>(curve.left_part) : parts;
+    const std::size_t b = curve.right_part >= 0 ? static_cast<std::size_t>(curve.right_part) : parts;
+    if (a == b) continue;
+    adjacent[a].emplace_back(b, c);
+    adjacent[b].emplace_back(a, c);
+  }
+  // A spanning forest by 0-1 BFS: curves to avoid (those of structured parts) cost 1,
+  // so the tree uses them only where nothing else connects. Nodes are finished in an
+  // order where every parent precedes its children.
+  constexpr std::size_t kFar = std::numeric_limits<std::size_t>::max();
+  std::vector<std::size_t> order, parent_curve(parts + 1, curves), parent(parts + 1, parts + 1),
+      distance(parts + 1, kFar);
+  std::vector<std::uint8_t> done(parts + 1, 0);
+  std::deque<std::size_t> queue;
+  for (std::size_t root_index = 0; root_index <= parts; ++root_index) {
+    const std::size_t root = root_index == 0 ? parts : root_index - 1;
+    if (distance[root] != kFar) continue;
+    distance[root] = 0;
+    queue.push_back(root);
+    while (!queue.empty()) {
+      const std::size_t node = queue.front();
+      queue.pop_front();
+      if (done[node]) continue;
+      done[node] = 1;
+      order.push_back(node);
+      for (const auto& [next, curve] : adjacent[node]) {
+        const std::size_t weight = avoid.empty() ? 0 : avoid[curve];
+        if (done[next] || distance[node] + weight >= distance[next]) continue;
+        distance[next] = distance[node] + weight;
+        parent[next] = node;
+        parent_curve[next] = curve;
+        if (weight == 0)
+          queue.push_front(next);
+        else
+          queue.push_back(next);
       }
     }
-    std::vector<std::uint8_t> odd = part_parity();
-    odd.push_back(0);  // the outside has no constraint
-    for (auto it = order.rbegin(); it != order.rend(); ++it) {
-      const std::size_t node = *it;
-      if (node == parts || !odd[node]) continue;
-      if (parent[node] > parts)
-        throw Error("sample_partition: part " + std::to_string(node) +
-                    " has an odd boundary and no neighbour to share the parity with");
-      flip_parity(plans[parent_curve[node]], size);
-      odd[node] ^= 1U;
-      if (parent[node] != parts) odd[parent[node]] ^= 1U;
-    }
-    const std::vector<std::uint8_t> check = part_parity();
-    for (std::size_t p = 0; p < parts; ++p)
-      if (check[p]) throw Error("sample_partition: part " + std::to_string(p) + " kept an odd boundary (internal)");
   }
+  std::vector<std::uint8_t> odd = part_parity();
+  odd.push_back(0);  // the outside has no constraint
+  for (auto it = order.rbegin(); it != order.rend(); ++it) {
+    const std::size_t node = *it;
+    if (node == parts || !odd[node]) continue;
+    if (parent[node] > parts)
+      throw Error("sample_partition: part " + std::to_string(node) +
+                  " has an odd boundary and no neighbour to share the parity with");
+    flip_parity(plans[parent_curve[node]], size);
+    odd[node] ^= 1U;
+    if (parent[node] != parts) odd[parent[node]] ^= 1U;
+  }
+  const std::vector<std::uint8_t> check = part_parity();
+  for (std::size_t p = 0; p < parts; ++p)
+    if (check[p]) throw Error("sample_partition: part " + std::to_string(p) + " kept an odd boundary (internal)");
 }
 
 // Interior angle (left side) at the vertex where piece `a` of one curve ends and
@@ -437,14 +446,76 @@ SampledPartition sample_partition(const Partition& partition, double size, bool 
     problem.four_sided.push_back(std::move(four));
     corner_edges.push_back({corners[0], corners[1], corners[2], corners[3]});
   }
+  // The MILP covers only the structured candidates' edges (its size follows them,
+  // not the thousands of island edges of a coastline); the parity of every other
+  // part is then repaired by the T-join, which avoids the candidates' curves where
+  // the part graph allows, and every candidate is checked again in integers.
   quad2d::IntervalSolution assignment;
-  if (!problem.four_sided.empty() || !problem.polar.empty()) assignment = quad2d::solve_interval_assignment(problem);
+  std::vector<std::uint8_t> candidate_curve(curves, 0);
+  if (!problem.four_sided.empty() || !problem.polar.empty()) {
+    std::vector<Index> local(edge_count, kInvalidIndex);
+    quad2d::IntervalProblem compact;
+    const auto use = [&](Index e) {
+      if (local[e] == kInvalidIndex) {
+        local[e] = static_cast<Index>(compact.ideal.size());
+        compact.ideal.push_back(problem.ideal[e]);
+        compact.minimum.push_back(problem.minimum[e]);
+      }
+      return local[e];
+    };
+    const auto remap = [&](const std::vector<Index>& edges) {
+      std::vector<Index> out;
+      for (const Index e : edges) out.push_back(use(e));
+      return out;
+    };
+    for (const auto& four : problem.four_sided) {
+      compact.four_sided.push_back({four.part, {}});
+      for (int side = 0; side < 4; ++side) compact.four_sided.back().sides[side] = remap(four.sides[side]);
+      compact.part_edges.push_back(remap(problem.part_edges[four.part]));
+    }
+    for (const auto& blocks : problem.polar) {
+      quad2d::IntervalProblem::Polar mapped{blocks.part, {}, blocks.chord_ideal};
+      for (const auto& side : blocks.sides) mapped.sides.push_back(remap(side));
+      compact.polar.push_back(std::move(mapped));
+      compact.part_edges.push_back(remap(problem.part_edges[blocks.part]));
+    }
+    assignment = quad2d::solve_interval_assignment(compact);
+    if (assignment.solved) {
+      for (std::size_t c = 0; c < curves; ++c)
+        for (std::size_t i = 0; i < plans[c].segments.size(); ++i) {
+          const Index e = local[edge_offset[c] + i];
+          if (e == kInvalidIndex) continue;
+          plans[c].segments[i] = assignment.counts[e];
+          candidate_curve[c] = 1;
+        }
+    }
+  }
+  repair_parity(partition, plans, size, candidate_curve);
   if (assignment.solved) {
-    for (std::size_t c = 0; c < curves; ++c)
-      for (std::size_t i = 0; i < plans[c].segments.size(); ++i)
-        plans[c].segments[i] = assignment.counts[edge_offset[c] + i];
-  } else {
-    repair_parity(partition, plans, size);
+    // Re-check in the final counts (the parity repair may have changed a candidate's curve).
+    const auto count = [&](Index e) {
+      const auto c =
+          static_cast<std::size_t>(std::upper_bound(edge_offset.begin(), edge_offset.end(), e) - edge_offset.begin()) -
+          1;
+      return static_cast<std::uint64_t>(plans[c].segments[e - edge_offset[c]]);
+    };
+    const auto side_sum = [&](const std::vector<Index>& side) {
+      std::uint64_t total = 0;
+      for (const Index e : side) total += count(e);
+      return total;
+    };
+    for (std::size_t f = 0; f < problem.four_sided.size(); ++f) {
+      const auto& sides = problem.four_sided[f].sides;
+      assignment.mapped[f] =
+          assignment.mapped[f] && side_sum(sides[0]) == side_sum(sides[2]) && side_sum(sides[1]) == side_sum(sides[3]);
+    }
+    for (std::size_t q = 0; q < problem.polar.size(); ++q) {
+      const auto& sides = problem.polar[q].sides;
+      const std::vector<Index>& r = assignment.chord_segments[q];
+      const std::size_t k = sides.size();
+      for (std::size_t i = 0; i < k && assignment.polar[q]; ++i)
+        assignment.polar[q] = side_sum(sides[i]) == r[(i + k - 1) % k] + r[(i + 1) % k];
+    }
   }
   // Smoothed separators must not cross anything: revert the ones that do (their
   // segment counts stay) until none does.
