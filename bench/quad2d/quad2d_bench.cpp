@@ -3,7 +3,7 @@
 // large-mesh throughput run.
 //
 //   bench_quad2d table DATA_DIR [SEGMENTS]   Table 3.4: Key/32, Pipe/16, Gulf/512,1024; all partitionings
-//   bench_quad2d scaling DATA_DIR            1 vs 2 threads; per-part times; predicted speedup 4..1024
+//   bench_quad2d scaling [QUADS]             Key: 1 vs 2 threads; per-part times; predicted speedup 4..1024
 //   bench_quad2d large DATA_DIR QUADS        Gulf of Mexico at about QUADS quads: time, quads/s, memory
 //   bench_quad2d gmsh                        ours beside Gmsh 4.8's best all-quad, same regions and sizes
 //
@@ -55,7 +55,7 @@ struct Input {
   std::string name;
   Polygon2 region;
   std::vector<std::size_t> parts;
-  double size = 0;  // 0: the mean boundary segment (§3.3.1)
+  std::size_t quads = 0;  // 0: size = the mean boundary segment (§3.3.1)
 };
 
 std::vector<Input> table_inputs(const std::filesystem::path& data, std::size_t segments) {
@@ -63,7 +63,8 @@ std::vector<Input> table_inputs(const std::filesystem::path& data, std::size_t s
   inputs.push_back({"key", make_key_region(segments), {32}, 0});
   inputs.push_back({"pipe", make_pipe_region(segments), {16}, 0});
   const std::filesystem::path gulf = data / "regions" / "gulf_of_mexico.geojson";
-  if (std::filesystem::exists(gulf)) inputs.push_back({"gulf", read_region(gulf).front(), {512, 1024}, 0});
+  // The Gulf's mean boundary segment (tiny islands) would give ~20M quads: 1M here.
+  if (std::filesystem::exists(gulf)) inputs.push_back({"gulf", read_region(gulf).front(), {512, 1024}, 1000000});
   return inputs;
 }
 
@@ -91,7 +92,7 @@ void table(const std::filesystem::path& data, std::size_t segments) {
         runs.emplace_back(name, options);
       }
       for (auto& [name, options] : runs) {
-        options.size = input.size;
+        options.target_quads = input.quads;
         const std::string key = input.name + "/" + std::to_string(parts) + "/" + name;
         const auto printed = dissertation().find(key);
         const char* anchor = printed == dissertation().end() ? "-" : printed->second;
@@ -112,56 +113,52 @@ void table(const std::filesystem::path& data, std::size_t segments) {
   }
 }
 
-void scaling(const std::filesystem::path& data) {
-  const std::filesystem::path gulf_path = data / "regions" / "gulf_of_mexico.geojson";
-  const bool have_gulf = std::filesystem::exists(gulf_path);
-  const Polygon2 region = have_gulf ? read_region(gulf_path).front() : make_key_region(20000);
-  const char* name = have_gulf ? "gulf" : "key";
-  std::printf("### Threads (%s, 64 parts, CVT-GP)\n\n", name);
-  std::printf("| threads | quads | partition s | paving s | relax s | total s | quads/s | speedup |\n");
-  std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+void scaling(std::size_t quads) {
+  // The Key at a fine boundary (20,000 segments) and about `quads` quads.
+  const Polygon2 region = make_key_region(20000);
+  std::printf("### Threads (Key, 20,000 boundary segments, about %zu quads, 64 parts, CVT-GP)\n\n", quads);
+  std::printf("| threads | quads | partition s | sample s | paving s | relax s | total s | quads/s | speedup |\n");
+  std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   double one_thread = 0;
-  std::vector<double> part_seconds_1024;
   for (const int threads : {1, 2}) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
     Quad2dOptions options;
+    options.target_quads = quads;
     options.partition.parts = 64;
     const Quad2dResult result = mesh_region_quads(region, options);
     const Quad2dReport& r = result.report;
     std::map<std::string, double> stage(r.stage_seconds.begin(), r.stage_seconds.end());
     const double total = total_seconds(r);
     if (threads == 1) one_thread = total;
-    std::printf("| %d | %zu | %.2f | %.2f | %.2f | %.2f | %.0f | %.2f |\n", threads, r.quads, stage["partition"],
-                stage["paving"], stage["relax"], total, static_cast<double>(r.quads) / total, one_thread / total);
+    std::printf("| %d | %zu | %.2f | %.2f | %.2f | %.2f | %.2f | %.0f | %.2f |\n", threads, r.quads, stage["partition"],
+                stage["sample"], stage["paving"], stage["relax"], total, static_cast<double>(r.quads) / total,
+                one_thread / total);
+    std::fflush(stdout);
   }
   // Per-part work measured on one thread at 1024 parts predicts the speedup on
   // 4..1024 processes (LPT assignment): Fig. 3.9(b)'s 2.78..601.5.
-  {
-    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
-    Quad2dOptions options;
-    options.partition.parts = 1024;
-    const Quad2dResult result = mesh_region_quads(region, options);
-    part_seconds_1024 = result.report.part_seconds;
-    std::map<std::string, double> stage(result.report.stage_seconds.begin(), result.report.stage_seconds.end());
-    std::vector<double> sorted = part_seconds_1024;
-    std::sort(sorted.begin(), sorted.end());
-    const auto at = [&](double q) {
-      return sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1))];
-    };
-    std::printf("\n### Per-part paving time (%s, 1024 parts, one thread, %zu quads)\n\n", name, result.report.quads);
-    std::printf("| min | 25%% | median | 75%% | max | max / mean |\n|---:|---:|---:|---:|---:|---:|\n");
-    double mean = 0;
-    for (const double s : sorted) mean += s;
-    mean /= static_cast<double>(sorted.size());
-    std::printf("| %.4f | %.4f | %.4f | %.4f | %.4f | %.2f |\n", sorted.front(), at(0.25), at(0.5), at(0.75),
-                sorted.back(), sorted.back() / mean);
-    std::printf("\n### Predicted speedup of the meshing stage (LPT assignment of the measured per-part times)\n\n");
-    std::printf("| processes | predicted speedup | efficiency | Fig. 3.9(b) |\n|---:|---:|---:|---|\n");
-    for (const std::size_t processes : {4, 16, 64, 256, 512, 1024}) {
-      const double speedup = predicted_speedup(part_seconds_1024, processes);
-      const char* anchor = processes == 4 ? "2.78" : processes == 1024 ? "601.5" : "-";
-      std::printf("| %zu | %.1f | %.2f | %s |\n", processes, speedup, speedup / static_cast<double>(processes), anchor);
-    }
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+  Quad2dOptions options;
+  options.target_quads = quads;
+  options.partition.parts = 1024;
+  const Quad2dResult result = mesh_region_quads(region, options);
+  const std::vector<double>& part_seconds = result.report.part_seconds;
+  std::vector<double> sorted = part_seconds;
+  std::sort(sorted.begin(), sorted.end());
+  const auto at = [&](double q) { return sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1))]; };
+  double mean = 0;
+  for (const double s : sorted) mean += s;
+  mean /= static_cast<double>(sorted.size());
+  std::printf("\n### Per-part meshing time (Key, 1024 parts, one thread, %zu quads)\n\n", result.report.quads);
+  std::printf("| min | 25%% | median | 75%% | max | max / mean |\n|---:|---:|---:|---:|---:|---:|\n");
+  std::printf("| %.4f | %.4f | %.4f | %.4f | %.4f | %.2f |\n", sorted.front(), at(0.25), at(0.5), at(0.75), sorted.back(),
+              sorted.back() / mean);
+  std::printf("\n### Predicted speedup of the meshing stage (LPT assignment of the measured per-part times)\n\n");
+  std::printf("| processes | predicted speedup | efficiency | Fig. 3.9(b) |\n|---:|---:|---:|---|\n");
+  for (const std::size_t processes : {4, 16, 64, 256, 512, 1024}) {
+    const double speedup = predicted_speedup(part_seconds, processes);
+    const char* anchor = processes == 4 ? "2.78" : processes == 1024 ? "601.5" : "-";
+    std::printf("| %zu | %.1f | %.2f | %s |\n", processes, speedup, speedup / static_cast<double>(processes), anchor);
   }
 }
 
@@ -251,15 +248,15 @@ int main(int argc, char** argv) {
   try {
     if (mode == "table" && argc >= 3) {
       table(argv[2], argc > 3 ? std::strtoul(argv[3], nullptr, 10) : 2000);
-    } else if (mode == "scaling" && argc >= 3) {
-      scaling(argv[2]);
+    } else if (mode == "scaling") {
+      scaling(argc > 2 ? std::strtoul(argv[2], nullptr, 10) : 2000000);
     } else if (mode == "gmsh") {
       versus_gmsh();
     } else if (mode == "large" && argc >= 4) {
       large(argv[2], std::strtoul(argv[3], nullptr, 10));
     } else {
       std::fprintf(stderr,
-                   "usage: bench_quad2d table DATA_DIR [SEGMENTS] | scaling DATA_DIR | large DATA_DIR QUADS | gmsh\n");
+                   "usage: bench_quad2d table DATA_DIR [SEGMENTS] | scaling [QUADS] | large DATA_DIR QUADS | gmsh\n");
       return 2;
     }
   } catch (const std::exception& e) {
