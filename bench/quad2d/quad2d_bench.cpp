@@ -145,14 +145,16 @@ void scaling(std::size_t quads) {
   const std::vector<double>& part_seconds = result.report.part_seconds;
   std::vector<double> sorted = part_seconds;
   std::sort(sorted.begin(), sorted.end());
-  const auto at = [&](double q) { return sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1))]; };
+  const auto at = [&](double q) {
+    return sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1))];
+  };
   double mean = 0;
   for (const double s : sorted) mean += s;
   mean /= static_cast<double>(sorted.size());
   std::printf("\n### Per-part meshing time (Key, 1024 parts, one thread, %zu quads)\n\n", result.report.quads);
   std::printf("| min | 25%% | median | 75%% | max | max / mean |\n|---:|---:|---:|---:|---:|---:|\n");
-  std::printf("| %.4f | %.4f | %.4f | %.4f | %.4f | %.2f |\n", sorted.front(), at(0.25), at(0.5), at(0.75), sorted.back(),
-              sorted.back() / mean);
+  std::printf("| %.4f | %.4f | %.4f | %.4f | %.4f | %.2f |\n", sorted.front(), at(0.25), at(0.5), at(0.75),
+              sorted.back(), sorted.back() / mean);
   std::printf("\n### Predicted speedup of the meshing stage (LPT assignment of the measured per-part times)\n\n");
   std::printf("| processes | predicted speedup | efficiency | Fig. 3.9(b) |\n|---:|---:|---:|---|\n");
   for (const std::size_t processes : {4, 16, 64, 256, 512, 1024}) {

@@ -45,6 +45,11 @@ struct CurvePlan {
   std::vector<std::size_t> breaks;
   std::vector<Index> break_vertices;  // partition vertex at each break
   bool smoothed = false;
+  /// Samples are the polyline's own vertices (a region boundary piece whose
+  /// resampling would cross something), plus the midpoint of segment
+  /// `extra_midpoint` when the count's parity has to stay.
+  bool exact = false;
+  std::size_t extra_midpoint = std::numeric_limits<std::size_t>::max();
   std::vector<double> lengths;
   std::vector<Index> segments;
   bool closed = false;
@@ -154,16 +159,78 @@ void flip_parity(CurvePlan& plan, double size) {
 }
 
 // The sample positions of a plan, piece ends included.
-std::vector<Vec2> sample_positions(const CurvePlan& plan) {
+// The samples of a plan in order, piece ends included; break_of[i] is the index of
+// the break a sample sits on (into plan.break_vertices), or -1.
+struct Samples {
   std::vector<Vec2> points;
+  std::vector<std::int64_t> break_of;
+};
+
+Samples sample_positions(const CurvePlan& plan) {
+  Samples out;
+  if (plan.exact) {
+    std::size_t next_break = 0;
+    for (std::size_t i = 0; i < plan.polyline.size(); ++i) {
+      const bool on_break = next_break < plan.breaks.size() && plan.breaks[next_break] == i;
+      out.points.push_back(plan.polyline[i]);
+      out.break_of.push_back(on_break ? static_cast<std::int64_t>(next_break++) : -1);
+      if (i == plan.extra_midpoint) {
+        out.points.push_back(0.5 * (plan.polyline[i] + plan.polyline[i + 1]));
+        out.break_of.push_back(-1);
+      }
+    }
+    return out;
+  }
   for (std::size_t piece = 0; piece < plan.segments.size(); ++piece) {
     const std::size_t from = plan.breaks[piece], to = plan.breaks[piece + 1];
-    points.push_back(plan.polyline[from]);
+    out.points.push_back(plan.polyline[from]);
+    out.break_of.push_back(static_cast<std::int64_t>(piece));
     const Index n = plan.segments[piece];
-    for (Index j = 1; j < n; ++j) points.push_back(point_at(plan.polyline, from, to, plan.lengths[piece] * j / n));
+    for (Index j = 1; j < n; ++j) {
+      out.points.push_back(point_at(plan.polyline, from, to, plan.lengths[piece] * j / n));
+      out.break_of.push_back(-1);
+    }
   }
-  points.push_back(plan.polyline.back());
-  return points;
+  out.points.push_back(plan.polyline.back());
+  out.break_of.push_back(static_cast<std::int64_t>(plan.breaks.size() - 1));
+  return out;
+}
+
+// Turns a region boundary plan exact (its own vertices as samples), keeping the
+// parity of its total count so that no part's boundary becomes odd.
+void make_exact(CurvePlan& plan) {
+  const Index before = total_segments(plan);
+  plan.exact = true;
+  plan.extra_midpoint = std::numeric_limits<std::size_t>::max();
+  std::vector<Index> counts;
+  for (std::size_t piece = 0; piece + 1 < plan.breaks.size(); ++piece)
+    counts.push_back(static_cast<Index>(plan.breaks[piece + 1] - plan.breaks[piece]));
+  Index after = 0;
+  for (const Index n : counts) after += n;
+  if ((after - before) % 2 != 0) {
+    std::size_t longest = 0;
+    for (std::size_t i = 1; i + 1 < plan.polyline.size(); ++i)
+      if ((plan.polyline[i + 1] - plan.polyline[i]).squaredNorm() >
+          (plan.polyline[longest + 1] - plan.polyline[longest]).squaredNorm())
+        longest = i;
+    plan.extra_midpoint = longest;
+    const auto piece = static_cast<std::size_t>(std::upper_bound(plan.breaks.begin(), plan.breaks.end(), longest) -
+                                                plan.breaks.begin()) -
+                       1;
+    ++counts[piece];
+  }
+  plan.segments = counts;
+}
+
+bool inside(const std::vector<Vec2>& ring, const Vec2& p) {
+  bool in = false;
+  for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
+    const Vec2& a = ring[i];
+    const Vec2& b = ring[j];
+    if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x())
+      in = !in;
+  }
+  return in;
 }
 
 double orientation(const Vec2& a, const Vec2& b, const Vec2& c) {
@@ -190,7 +257,7 @@ std::vector<std::size_t> curves_with_crossings(const std::vector<CurvePlan>& pla
   double longest = 0;
   BoundingBox2 box;
   for (std::size_t c = 0; c < plans.size(); ++c) {
-    const std::vector<Vec2> points = sample_positions(plans[c]);
+    const std::vector<Vec2> points = sample_positions(plans[c]).points;
     for (std::size_t i = 0; i + 1 < points.size(); ++i) {
       segments.push_back({points[i], points[i + 1], c, i});
       longest = std::max(longest, (points[i + 1] - points[i]).norm());
@@ -491,8 +558,66 @@ SampledPartition sample_partition(const Partition& partition, double size, bool 
     }
   }
   repair_parity(partition, plans, size, candidate_curve);
+  // Samples must not cross anything. A smoothed separator that does goes back to
+  // its cell edges (its counts stay); a region boundary piece that does (its chords
+  // cut across a strait or an island smaller than the size) takes its input
+  // vertices as samples. Until nothing crosses and every hole is inside its part.
+  for (int round = 0; round < 16; ++round) {
+    const std::vector<std::size_t> crossing = curves_with_crossings(plans);
+    bool changed = false;
+    for (const std::size_t c : crossing) {
+      if (plans[c].smoothed) {
+        const std::vector<Index> segments = plans[c].segments;
+        plans[c] = plan_curve(partition, partition.curves[c], size, false);
+        plans[c].segments = segments;
+        changed = true;
+      } else if (partition.curves[c].kind == PartitionCurve::Kind::Boundary && !plans[c].exact) {
+        make_exact(plans[c]);
+        changed = true;
+      }
+    }
+    // A hole whose samples fall outside its part's sampled outer loop (the coast's
+    // chords passed on the inland side of an island): the outer loop's boundary
+    // pieces take their input vertices, its smoothed separators their cell edges.
+    for (std::size_t p = 0; p < parts && !changed; ++p) {
+      const auto& loops = partition.part_loops[p];
+      if (loops.size() < 2) continue;
+      const auto loop_points = [&](const std::vector<std::int64_t>& refs) {
+        std::vector<Vec2> points;
+        for (const std::int64_t ref : refs) {
+          const bool forward = ref >= 0;
+          std::vector<Vec2> curve_points =
+              sample_positions(plans[forward ? static_cast<std::size_t>(ref) : static_cast<std::size_t>(-ref - 1)])
+                  .points;
+          if (!forward) std::reverse(curve_points.begin(), curve_points.end());
+          points.insert(points.end(), curve_points.begin(), curve_points.end() - 1);
+        }
+        return points;
+      };
+      const std::vector<Vec2> outer = loop_points(loops[0]);
+      bool escaped = false;
+      for (std::size_t l = 1; l < loops.size() && !escaped; ++l)
+        escaped = !inside(outer, loop_points(loops[l]).front());
+      if (!escaped) continue;
+      for (const std::int64_t ref : loops[0]) {
+        const std::size_t c = ref >= 0 ? static_cast<std::size_t>(ref) : static_cast<std::size_t>(-ref - 1);
+        if (plans[c].smoothed) {
+          const std::vector<Index> segments = plans[c].segments;
+          plans[c] = plan_curve(partition, partition.curves[c], size, false);
+          plans[c].segments = segments;
+          changed = true;
+        } else if (partition.curves[c].kind == PartitionCurve::Kind::Boundary && !plans[c].exact) {
+          make_exact(plans[c]);
+          changed = true;
+        }
+      }
+    }
+    if (!changed) break;
+  }
+
   if (assignment.solved) {
-    // Re-check in the final counts (the parity repair may have changed a candidate's curve).
+    // Re-check in the final counts (the parity repair or exact boundary samples may
+    // have changed a candidate's curve).
     const auto count = [&](Index e) {
       const auto c =
           static_cast<std::size_t>(std::upper_bound(edge_offset.begin(), edge_offset.end(), e) - edge_offset.begin()) -
@@ -516,20 +641,6 @@ SampledPartition sample_partition(const Partition& partition, double size, bool 
       for (std::size_t i = 0; i < k && assignment.polar[q]; ++i)
         assignment.polar[q] = side_sum(sides[i]) == r[(i + k - 1) % k] + r[(i + 1) % k];
     }
-  }
-  // Smoothed separators must not cross anything: revert the ones that do (their
-  // segment counts stay) until none does.
-  for (int round = 0; round < 8; ++round) {
-    const std::vector<std::size_t> crossing = curves_with_crossings(plans);
-    bool reverted = false;
-    for (const std::size_t c : crossing) {
-      if (!plans[c].smoothed) continue;
-      const std::vector<Index> segments = plans[c].segments;
-      plans[c] = plan_curve(partition, partition.curves[c], size, false);
-      plans[c].segments = segments;
-      reverted = true;
-    }
-    if (!reverted) break;
   }
 
   SampledPartition sampled;
@@ -556,14 +667,11 @@ SampledPartition sample_partition(const Partition& partition, double size, bool 
     const CurvePlan& plan = plans[c];
     const bool boundary = curve.kind == PartitionCurve::Kind::Boundary;
     std::vector<Index>& chain = chains[c];
-    for (std::size_t piece = 0; piece < plan.segments.size(); ++piece) {
-      const std::size_t from = plan.breaks[piece], to = plan.breaks[piece + 1];
-      chain.push_back(end_point(plan.break_vertices[piece], boundary));
-      const Index n = plan.segments[piece];
-      for (Index j = 1; j < n; ++j)
-        chain.push_back(add_point(point_at(plan.polyline, from, to, plan.lengths[piece] * j / n), boundary));
-    }
-    chain.push_back(end_point(curve.vertices.back(), boundary));
+    const Samples samples = sample_positions(plan);
+    for (std::size_t i = 0; i < samples.points.size(); ++i)
+      chain.push_back(samples.break_of[i] >= 0
+                          ? end_point(plan.break_vertices[static_cast<std::size_t>(samples.break_of[i])], boundary)
+                          : add_point(samples.points[i], boundary));
   }
 
   sampled.part_loops.assign(parts, {});

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <set>
 
 namespace structmesh {
@@ -172,6 +173,75 @@ TEST(SamplePartition, KeyPartsCornersAreConsistent) {
   expect_consistent_corners(sampled, mapped);
   std::printf("Key, 32 parts: %zu four-sided parts with matching sides\n", mapped);
   EXPECT_GT(mapped, 0U);
+}
+
+}  // namespace
+}  // namespace structmesh
+
+namespace structmesh {
+namespace {
+
+bool segments_cross(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+  const auto orient = [](const Vec2& p, const Vec2& q, const Vec2& r) {
+    return (q.x() - p.x()) * (r.y() - p.y()) - (q.y() - p.y()) * (r.x() - p.x());
+  };
+  if (a == c || a == d || b == c || b == d) return false;
+  const double o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a), o4 = orient(c, d, b);
+  return ((o1 < 0) != (o2 < 0)) && ((o3 < 0) != (o4 < 0));
+}
+
+TEST(SamplePartition, CoarseSamplesNeverCutThroughAnIsland) {
+  // A wiggly coast (wavelength ~0.16) with small islands in its crests, sampled at
+  // 0.3: arc-length chords of the coast would cut through the islands.
+  Polygon2 region;
+  std::vector<Vec2> coast, island;
+  for (int i = 0; i < 4000; ++i) {  // fine enough that no vertex turns by 25 degrees
+    const double t = 2 * std::numbers::pi * i / 4000;
+    const double r = 1 + 0.06 * std::sin(40 * t);
+    coast.emplace_back(r * std::cos(t), r * std::sin(t));
+  }
+  region.add_ring(coast);
+  // Small islands near the crests (sin(40 t) = 1), where the coast's chords cut across.
+  for (int k = 0; k < 40; k += 2) {
+    const double crest = std::numbers::pi / 80 + k * 2 * std::numbers::pi / 40;
+    island.clear();
+    for (int i = 0; i < 12; ++i) {
+      const double t = -2 * std::numbers::pi * i / 12;  // clockwise hole
+      island.emplace_back(1.035 * std::cos(crest) + 0.01 * std::cos(t), 1.035 * std::sin(crest) + 0.01 * std::sin(t));
+    }
+    region.add_ring(island);
+  }
+  PartitionOptions options;
+  options.parts = 1;
+  const Partition partition = partition_region(region, options);
+  for (const double size : {0.11, 0.23, 0.3, 0.37}) {
+    SCOPED_TRACE(size);
+    const SampledPartition sampled = sample_partition(partition, size);
+    std::vector<std::pair<Vec2, Vec2>> segments;
+    std::size_t count = 0;
+    for (const auto& loop : sampled.part_loops[0]) {
+      count += loop.size();
+      for (std::size_t i = 0; i < loop.size(); ++i)
+        segments.emplace_back(sampled.points[loop[i]], sampled.points[loop[(i + 1) % loop.size()]]);
+    }
+    EXPECT_EQ(count % 2, 0U);
+    const auto& outer = sampled.part_loops[0][0];
+    for (std::size_t l = 1; l < sampled.part_loops[0].size(); ++l) {
+      const Vec2& p = sampled.points[sampled.part_loops[0][l][0]];
+      bool in = false;
+      for (std::size_t i = 0, j = outer.size() - 1; i < outer.size(); j = i++) {
+        const Vec2& a = sampled.points[outer[i]];
+        const Vec2& b = sampled.points[outer[j]];
+        if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x())
+          in = !in;
+      }
+      EXPECT_TRUE(in) << "hole " << l << " lies outside the sampled outer loop";
+    }
+    for (std::size_t i = 0; i < segments.size(); ++i)
+      for (std::size_t j = i + 1; j < segments.size(); ++j)
+        ASSERT_FALSE(segments_cross(segments[i].first, segments[i].second, segments[j].first, segments[j].second))
+            << "segments " << i << " and " << j << " cross";
+  }
 }
 
 }  // namespace
