@@ -10,6 +10,7 @@
 // different target size before an Error is thrown.
 #include "quad2d/paving.hpp"
 
+#include "structmesh/check.hpp"
 #include "structmesh/error.hpp"
 
 #include <algorithm>
@@ -73,7 +74,10 @@ Paver::Paver(const Polygon2& boundary, const PavingOptions& options) : options_(
     }
     set_next(last, first);
     loop.head = first;
-    if (loop.area < 0) negative_loops_.push_back(id);
+    if (loop.area < 0) {
+      negative_loops_.push_back(id);
+      loop.listed = true;
+    }
     loops_.push_back(loop);
   }
 }
@@ -200,7 +204,16 @@ PavedPart pave(const Polygon2& boundary, const PavingOptions& options) {
     } catch (const InputError&) {
       throw;
     } catch (const Error& e) {
-      if (first_error.empty()) first_error = e.what();
+      if (first_error.empty()) {
+        first_error = e.what();
+        // A boundary that crosses or touches itself (a coarse sampling of a jagged
+        // coastline can do that) bounds no region a mesh can fill: say so at once.
+        const RegionReport check = check_region({boundary});
+        if (check.self_intersections > 0)
+          throw InputError("pave: the part boundary crosses or touches itself (" +
+                           std::to_string(check.self_intersections) + " times; " + check.problems.front().message +
+                           "), so no quad mesh keeps it");
+      }
     }
   }
   throw Error(first_error + " (and with target sizes up to 12% off)");

@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace structmesh::paving {
@@ -134,6 +135,7 @@ struct Loop {
   /// Parts of the front may face each other within a few sizes (the last row saw a
   /// short gap or failed somewhere): only then are chord splits searched.
   bool narrow = true;
+  bool listed = false;  // in Paver::negative_loops_
 };
 
 /// A slot of a quad being added: an existing front node or a planned new point.
@@ -184,6 +186,10 @@ class Paver {
   bool seams(Index loop);
   bool clip_ear(Index loop);
   bool splits(Index loop);
+  /// The open holes (alive loops of negative area, other than `loop`) with an odd
+  /// node count, each as a point of its front that lies on no other front; dead
+  /// entries leave negative_loops_ on the way.
+  std::vector<Vec2> odd_hole_points(Index loop);
   bool apply_chord(Index a, Index b, int interior, bool join);
   double local_size(Index node) const;
   /// Distance from the node along direction dir to the front (edges not at the node),
@@ -196,6 +202,9 @@ class Paver {
   /// small loops, a shrunk copy otherwise) is left to the front.
   bool close_with_ring(Index loop);
   void fallback(Index loop);
+  /// Triangulates a region (rings of front points; point_of maps them to mesh
+  /// points), pairs the triangles into quads and adds them; Error when that fails.
+  void close_region(const Polygon2& region, const std::vector<Index>& point_of, const std::string& where);
   bool contains_open_hole(Index loop) const;
   bool hole_inside(Index hole, Index loop, const std::vector<Vec2>& ring) const;
 
@@ -229,7 +238,7 @@ class Paver {
   std::vector<std::uint8_t> node_alive_;
   std::vector<std::uint32_t> point_fronts_;  // per point: live front nodes on it
   std::vector<Loop> loops_;
-  std::vector<Index> negative_loops_;  // loops created with negative area (holes), dead or alive
+  std::vector<Index> negative_loops_;  // loops that had a negative area (holes), once each, dead or alive
   std::vector<Vec2> planned_pos_;
   std::vector<Index> planned_node_;
   std::vector<Index> index_of_;  // scratch: position of a node along its loop (splits)

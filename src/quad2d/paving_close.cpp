@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <map>
 #include <string>
+#include <unordered_map>
 
 namespace structmesh::paving {
 
@@ -405,27 +406,101 @@ bool Paver::close_with_ring(Index loop) {
 }
 
 void Paver::fallback(Index loop) {
-  // The region: this loop and the open holes inside it.
-  std::vector<Index> loop_ids{loop};
-  {
-    std::vector<Vec2> ring;
-    for (const Index v : loop_nodes(loop)) ring.push_back(pos(v));
-    for (const Index l : negative_loops_)
-      if (l != loop && loops_[l].alive && loops_[l].area < 0 && hole_inside(l, loop, ring)) loop_ids.push_back(l);
-  }
-  Polygon2 region;
-  std::vector<Index> point_of;  // polygon point -> mesh point
-  for (const Index l : loop_ids) {
-    std::vector<Vec2> ring;
-    for (const Index v : loop_nodes(l)) {
-      ring.push_back(pos(v));
-      point_of.push_back(node_point_[v]);
-    }
-    region.add_ring(ring);
-  }
   const std::string where = "paving: a front loop of " + std::to_string(loops_[loop].size) + " nodes near (" +
                             std::to_string(pos(loops_[loop].head).x()) + ", " +
                             std::to_string(pos(loops_[loop].head).y()) + ")";
+  // The loop may pass a point more than once: both sides of a chord that joined a
+  // hole's front (a slit), or a pinch where the front touched itself. Cut it at every
+  // repeated point into simple cycles (a stack walk, O(n)): a cycle of two nodes is
+  // a slit edge with unmeshed space on both sides (dropped: it need not be an edge of
+  // the closure), a negative one a joined hole, a positive one a region to close.
+  const std::vector<Index> nodes = loop_nodes(loop);
+  std::vector<std::vector<Index>> cycles;
+  {
+    std::vector<Index> stack;
+    std::unordered_map<Index, std::size_t> at;  // point -> position in stack
+    for (const Index v : nodes) {
+      const auto [it, fresh] = at.emplace(node_point_[v], stack.size());
+      if (fresh) {
+        stack.push_back(v);
+        continue;
+      }
+      const std::size_t k = it->second;
+      cycles.emplace_back(stack.begin() + static_cast<std::ptrdiff_t>(k), stack.end());
+      for (std::size_t t = k + 1; t < stack.size(); ++t) at.erase(node_point_[stack[t]]);
+      stack.resize(k + 1);
+    }
+    cycles.push_back(std::move(stack));
+  }
+  std::vector<std::vector<Vec2>> outers;
+  std::vector<std::vector<Index>> outer_points;
+  std::vector<std::pair<std::vector<Vec2>, std::vector<Index>>> holes;
+  for (const auto& cycle : cycles) {
+    if (cycle.size() < 3) continue;
+    std::vector<Vec2> ring;
+    std::vector<Index> pts;
+    for (const Index v : cycle) {
+      ring.push_back(pos(v));
+      pts.push_back(node_point_[v]);
+    }
+    if (signed_area(ring) > 0) {
+      outers.push_back(std::move(ring));
+      outer_points.push_back(std::move(pts));
+    } else {
+      holes.emplace_back(std::move(ring), std::move(pts));
+    }
+  }
+  if (outers.empty()) throw Error(where + " could not be closed: it bounds no region");
+  // The open holes inside the loop.
+  std::vector<Index> loop_ids{loop};
+  {
+    std::vector<Vec2> ring;
+    for (const Index v : nodes) ring.push_back(pos(v));
+    for (const Index l : negative_loops_) {
+      if (l == loop || !loops_[l].alive || loops_[l].area >= 0 || !hole_inside(l, loop, ring)) continue;
+      loop_ids.push_back(l);
+      std::vector<Vec2> hole;
+      std::vector<Index> pts;
+      for (const Index v : loop_nodes(l)) {
+        hole.push_back(pos(v));
+        pts.push_back(node_point_[v]);
+      }
+      holes.emplace_back(std::move(hole), std::move(pts));
+    }
+  }
+  // Every hole goes to the smallest region around it (tested at its middle-most
+  // point that is not on the region's loop).
+  std::vector<Polygon2> regions(outers.size());
+  std::vector<std::vector<Index>> point_of(outers.size());
+  for (std::size_t c = 0; c < outers.size(); ++c) {
+    regions[c].add_ring(outers[c]);
+    point_of[c] = outer_points[c];
+  }
+  for (auto& [ring, pts] : holes) {
+    std::size_t best = outers.size();
+    for (std::size_t c = 0; c < outers.size(); ++c) {
+      bool inside = false;
+      for (std::size_t i = 0; i < ring.size(); ++i) {
+        if (std::find(outer_points[c].begin(), outer_points[c].end(), pts[i]) != outer_points[c].end()) continue;
+        inside = inside_ring(outers[c], ring[i]);
+        break;
+      }
+      if (inside && (best == outers.size() || signed_area(outers[c]) < signed_area(outers[best]))) best = c;
+    }
+    if (best == outers.size()) throw Error(where + " could not be closed: a hole inside it lies in none of its parts");
+    regions[best].add_ring(ring);
+    point_of[best].insert(point_of[best].end(), pts.begin(), pts.end());
+  }
+  for (std::size_t c = 0; c < regions.size(); ++c) close_region(regions[c], point_of[c], where);
+  for (const Index l : loop_ids) {
+    for (const Index v : loop_nodes(l)) kill_node(v);
+    loops_[l].alive = false;
+    loops_[l].size = 0;
+  }
+  ++stats_.fallback_loops;
+}
+
+void Paver::close_region(const Polygon2& region, const std::vector<Index>& point_of, const std::string& where) {
   const auto boundary_count = static_cast<Index>(point_of.size());
   RegionTriangulation tri;
   std::vector<std::array<Index, 4>> quads, best;  // in triangulation numbering
@@ -524,12 +599,6 @@ void Paver::fallback(Index loop) {
     }
     emit_quad(mq);
   }
-  for (const Index l : loop_ids) {
-    for (const Index v : loop_nodes(l)) kill_node(v);
-    loops_[l].alive = false;
-    loops_[l].size = 0;
-  }
-  ++stats_.fallback_loops;
 }
 
 }  // namespace structmesh::paving

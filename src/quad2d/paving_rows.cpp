@@ -473,8 +473,14 @@ bool Paver::apply_chord(Index a, Index b, int interior, bool join) {
     old.area -= fresh.area;
     old.head = x_short ? b2 : a;
     old.stuck = 0;
-    if (fresh.area < 0) negative_loops_.push_back(id);
-    if (old.area < 0) negative_loops_.push_back(la);
+    if (fresh.area < 0) {
+      negative_loops_.push_back(id);
+      fresh.listed = true;
+    }
+    if (old.area < 0 && !old.listed) {
+      negative_loops_.push_back(la);
+      old.listed = true;
+    }
     loops_.push_back(fresh);
   }
   ++stats_.splits;
@@ -497,6 +503,61 @@ bool Paver::splits(Index loop) {
   std::vector<Index>& index_of = index_of_;
   if (index_of.size() < node_next_.size()) index_of.resize(node_next_.size());
   for (std::size_t i = 0; i < n; ++i) index_of[nodes[i]] = static_cast<Index>(i);
+
+  // Parity. A loop closes with quads only when its node count plus the node counts of
+  // the open holes inside it is even (every quad changes a loop's count by an even
+  // number, and a chord joining a hole adds the hole's count plus an even number). So
+  // a chord's interior node count m follows the odd holes each side gets: holes
+  // inside the sub-loop X = nodes[i..j] + chord are counted by the crossings of a ray
+  // (+x) from a point of the hole with X's edges, from per-hole sorted lists of the
+  // loop's crossing edges (O(n log h) per call, O(h log n) per candidate).
+  struct OddHole {
+    Vec2 at;
+    std::vector<Index> crossing_edges;  // loop edges nodes[k] -> nodes[k + 1] the ray crosses
+  };
+  std::vector<OddHole> odd;
+  std::vector<double> twice_area(n + 1, 0);  // prefix sums of the shoelace terms
+  for (std::size_t k = 0; k < n; ++k) twice_area[k + 1] = twice_area[k] + cross(pos(nodes[k]), pos(nodes[(k + 1) % n]));
+  {
+    BoundingBox2 box;
+    for (const Index v : nodes) box.extend(pos(v));
+    for (const Vec2& q : odd_hole_points(loop))
+      if (q.x() >= box.min.x() && q.x() <= box.max.x() && q.y() >= box.min.y() && q.y() <= box.max.y())
+        odd.push_back({q, {}});
+    std::sort(odd.begin(), odd.end(), [](const OddHole& x, const OddHole& y) {
+      return std::tie(x.at.y(), x.at.x()) < std::tie(y.at.y(), y.at.x());
+    });
+    for (std::size_t k = 0; k < n && !odd.empty(); ++k) {
+      const Vec2 &u = pos(nodes[k]), &v = pos(nodes[(k + 1) % n]);
+      const double lo = std::min(u.y(), v.y()), hi = std::max(u.y(), v.y());
+      auto it = std::lower_bound(odd.begin(), odd.end(), lo, [](const OddHole& h, double y) { return h.at.y() < y; });
+      for (; it != odd.end() && it->at.y() < hi; ++it) {
+        const Vec2& q = it->at;
+        if ((u.y() > q.y()) != (v.y() > q.y()) && q.x() < u.x() + (q.y() - u.y()) / (v.y() - u.y()) * (v.x() - u.x()))
+          it->crossing_edges.push_back(static_cast<Index>(k));
+      }
+    }
+  }
+  const bool hole_loop = loops_[loop].area < 0;
+  // Parity of m that lets both sub-loops of the chord nodes[i] -> nodes[j] close.
+  auto chord_parity = [&](std::size_t i, std::size_t j) {
+    const std::size_t p = j - i;
+    int holes = 0;
+    const Vec2 &a = pos(nodes[i]), &b = pos(nodes[j]);
+    for (const OddHole& h : odd) {
+      const auto& e = h.crossing_edges;
+      auto crossings = std::lower_bound(e.begin(), e.end(), static_cast<Index>(j)) -
+                       std::lower_bound(e.begin(), e.end(), static_cast<Index>(i));
+      const Vec2& q = h.at;
+      if ((b.y() > q.y()) != (a.y() > q.y()) && q.x() < b.x() + (q.y() - b.y()) / (a.y() - b.y()) * (a.x() - b.x()))
+        ++crossings;
+      holes += static_cast<int>(crossings % 2);
+    }
+    // The sub-loop that bounds a region with those holes: X, or (a hole's loop cut
+    // off a pocket, X being what is left of the hole) the other one.
+    const bool x_bounds = !hole_loop || twice_area[j] - twice_area[i] + cross(b, a) > 0;
+    return static_cast<int>(((x_bounds ? p + 1 : n - p + 1) + static_cast<std::size_t>(holes)) % 2);
+  };
 
   // Chords start only at nodes of angle >= 0.8π: a cheap test (no atan2) first.
   const double cos_turn = std::cos(0.2 * kPi);
@@ -541,8 +602,7 @@ bool Paver::splits(Index loop) {
           } else {
             const std::size_t p = index_of[b] - i;
             if (p < 3 || n - p < 3) return true;
-            // both sub-loops even: p + 1 + m even
-            const int parity = static_cast<int>((p + 1) % 2);
+            const int parity = chord_parity(i, index_of[b]);
             const double ideal = c / d - 1;
             m = parity + 2 * std::max(0, static_cast<int>(std::lround((ideal - parity) / 2)));
             if (static_cast<int>(p) + 1 + m < 4 || static_cast<int>(n - p) + 1 + m < 4) return true;
@@ -586,6 +646,18 @@ bool Paver::splits(Index loop) {
     any = true;
   }
   return any;
+}
+
+std::vector<Vec2> Paver::odd_hole_points(Index loop) {
+  std::vector<Vec2> points;
+  std::erase_if(negative_loops_, [this](Index l) { return !loops_[l].alive; });
+  for (const Index l : negative_loops_) {
+    if (l == loop || loops_[l].area >= 0 || loops_[l].size % 2 == 0) continue;
+    Index v = loops_[l].head;
+    while (point_fronts_[node_point_[v]] != 1 && node_next_[v] != loops_[l].head) v = node_next_[v];
+    if (point_fronts_[node_point_[v]] == 1) points.push_back(pos(v));
+  }
+  return points;
 }
 
 }  // namespace structmesh::paving
