@@ -246,4 +246,15 @@ std::vector<std::uint32_t> RingLocator::containing(const Vec2& p, std::uint32_t 
   return inside;
 }
 
+bool point_in_ring(std::span<const Vec2> ring, const Vec2& p) {
+  bool in = false;
+  for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
+    const Vec2& a = ring[i];
+    const Vec2& b = ring[j];
+    if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x())
+      in = !in;
+  }
+  return in;
+}
+
 }  // namespace structmesh::detail

@@ -28,6 +28,11 @@ bool has_three_distinct_points(std::span<const Vec2> ring);
 /// convention), reversing a ring in place but keeping its first point first.
 void normalize_orientation(Polygon2& polygon);
 
+/// Whether p lies inside the closed ring, by the parity of crossings of a ray
+/// towards -x (half-open rule: a segment counts when one end is strictly above p's
+/// y and the other is not); a point on the ring gets an arbitrary answer. O(ring).
+bool point_in_ring(std::span<const Vec2> ring, const Vec2& p);
+
 enum class SegmentContact { None, Cross, Touch };
 
 /// How closed segments [a,b] and [c,d] meet: Cross when they cross at one point

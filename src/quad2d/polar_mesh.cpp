@@ -5,6 +5,8 @@
 // the sides meet the neighbour's grid with valence 4. The segment counts that make
 // every block's opposite sides match come from the interval assignment
 // (sample_partition()).
+#include "mesh/planar_geometry.hpp"
+
 #include "structmesh/error.hpp"
 #include "structmesh/quad2d.hpp"
 
@@ -13,17 +15,6 @@
 namespace structmesh {
 
 namespace {
-
-bool inside(const std::span<const Vec2> ring, const Vec2& p) {
-  bool in = false;
-  for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
-    const Vec2& a = ring[i];
-    const Vec2& b = ring[j];
-    if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x())
-      in = !in;
-  }
-  return in;
-}
 
 Vec2 area_centroid(const std::span<const Vec2> ring) {
   // Relative to the first point: no cancellation with large (metre) coordinates.
@@ -61,7 +52,7 @@ std::optional<PavedPart> polar_mesh(const Polygon2& boundary, const PolarBlocks&
       throw InputError("polar_mesh: block " + std::to_string(i) + " has unequal opposite sides");
   }
   const Vec2 centre = area_centroid(ring);
-  if (!inside(ring, centre)) return std::nullopt;
+  if (!detail::point_in_ring(ring, centre)) return std::nullopt;
 
   PavedPart result;
   result.points.assign(ring.begin(), ring.end());

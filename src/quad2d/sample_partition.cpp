@@ -9,6 +9,7 @@
 // spanning tree of the part adjacency (the outside of the region is the root and
 // absorbs any parity), which changes the fewest curves by one segment each and keeps
 // the spacing close to the requested size.
+#include "mesh/planar_geometry.hpp"
 #include "quad2d/interval_assignment.hpp"
 
 #include "structmesh/error.hpp"
@@ -220,17 +221,6 @@ void make_exact(CurvePlan& plan) {
     ++counts[piece];
   }
   plan.segments = counts;
-}
-
-bool inside(const std::vector<Vec2>& ring, const Vec2& p) {
-  bool in = false;
-  for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
-    const Vec2& a = ring[i];
-    const Vec2& b = ring[j];
-    if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x())
-      in = !in;
-  }
-  return in;
 }
 
 double orientation(const Vec2& a, const Vec2& b, const Vec2& c) {
@@ -562,19 +552,24 @@ SampledPartition sample_partition(const Partition& partition, double size, bool 
   // its cell edges (its counts stay); a region boundary piece that does (its chords
   // cut across a strait or an island smaller than the size) takes its input
   // vertices as samples. Until nothing crosses and every hole is inside its part.
+  const auto follow_input = [&](std::size_t c) {
+    if (plans[c].smoothed) {
+      const std::vector<Index> segments = plans[c].segments;
+      plans[c] = plan_curve(partition, partition.curves[c], size, false);
+      plans[c].segments = segments;
+      return true;
+    }
+    if (partition.curves[c].kind == PartitionCurve::Kind::Boundary && !plans[c].exact) {
+      make_exact(plans[c]);
+      return true;
+    }
+    return false;
+  };
   for (int round = 0; round < 16; ++round) {
     const std::vector<std::size_t> crossing = curves_with_crossings(plans);
     bool changed = false;
     for (const std::size_t c : crossing) {
-      if (plans[c].smoothed) {
-        const std::vector<Index> segments = plans[c].segments;
-        plans[c] = plan_curve(partition, partition.curves[c], size, false);
-        plans[c].segments = segments;
-        changed = true;
-      } else if (partition.curves[c].kind == PartitionCurve::Kind::Boundary && !plans[c].exact) {
-        make_exact(plans[c]);
-        changed = true;
-      }
+      changed = follow_input(c) || changed;
     }
     // A hole whose samples fall outside its part's sampled outer loop (the coast's
     // chords passed on the inland side of an island): the outer loop's boundary
@@ -597,19 +592,11 @@ SampledPartition sample_partition(const Partition& partition, double size, bool 
       const std::vector<Vec2> outer = loop_points(loops[0]);
       bool escaped = false;
       for (std::size_t l = 1; l < loops.size() && !escaped; ++l)
-        escaped = !inside(outer, loop_points(loops[l]).front());
+        escaped = !detail::point_in_ring(outer, loop_points(loops[l]).front());
       if (!escaped) continue;
       for (const std::int64_t ref : loops[0]) {
         const std::size_t c = ref >= 0 ? static_cast<std::size_t>(ref) : static_cast<std::size_t>(-ref - 1);
-        if (plans[c].smoothed) {
-          const std::vector<Index> segments = plans[c].segments;
-          plans[c] = plan_curve(partition, partition.curves[c], size, false);
-          plans[c].segments = segments;
-          changed = true;
-        } else if (partition.curves[c].kind == PartitionCurve::Kind::Boundary && !plans[c].exact) {
-          make_exact(plans[c]);
-          changed = true;
-        }
+        changed = follow_input(c) || changed;
       }
     }
     if (!changed) break;
