@@ -134,12 +134,18 @@ std::vector<PavedPart> pave_parts(const Quad2dSetup& setup, std::span<const std:
             // interior singular vertex); paving when the map would fold.
             const auto& corners = setup.sampled.part_corners[p];
             std::optional<PavedPart> mapped;
-            if (!setup.sampled.part_polar.empty() && !setup.sampled.part_polar[p].corners.empty()) {
-              mapped = polar_mesh(boundary, setup.sampled.part_polar[p]);
-            } else if (corners[0] >= 0) {
-              mapped =
-                  mapped_mesh(boundary, {static_cast<std::size_t>(corners[0]), static_cast<std::size_t>(corners[1]),
-                                         static_cast<std::size_t>(corners[2]), static_cast<std::size_t>(corners[3])});
+            try {
+              if (!setup.sampled.part_polar.empty() && !setup.sampled.part_polar[p].corners.empty()) {
+                mapped = polar_mesh(boundary, setup.sampled.part_polar[p]);
+              } else if (corners[0] >= 0) {
+                mapped =
+                    mapped_mesh(boundary, {static_cast<std::size_t>(corners[0]), static_cast<std::size_t>(corners[1]),
+                                           static_cast<std::size_t>(corners[2]), static_cast<std::size_t>(corners[3])});
+              }
+            } catch (const InputError&) {
+              // A part the block meshers cannot take (e.g. its sampled loop turned
+              // clockwise) is paved like any other; pave() reports what is wrong.
+              mapped.reset();
             }
             if (mapped) {
               paved[p] = std::move(*mapped);
