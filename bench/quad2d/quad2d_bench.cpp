@@ -171,7 +171,13 @@ void large(const std::filesystem::path& data, std::size_t quads) {
   Quad2dOptions options;
   options.target_quads = quads;
   options.progress = true;
-  const Quad2dResult result = mesh_region_quads(region, options);
+  Quad2dResult result;
+  try {
+    result = mesh_region_quads(region, options);
+  } catch (const std::exception& e) {
+    std::printf("failed: %s\n", e.what());
+    return;
+  }
   const Quad2dReport& r = result.report;
   std::map<std::string, double> stage(r.stage_seconds.begin(), r.stage_seconds.end());
   std::printf(

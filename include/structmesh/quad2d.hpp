@@ -205,7 +205,12 @@ struct Quad2dOptions {
   double size = 0;               ///< target edge length (metric units); 0: see below
   std::size_t target_quads = 0;  ///< about this many quads (size derived from the area)
   /// With neither: the mean input boundary segment length (§3.3.1).
-  PartitionOptions partition;  ///< parts = 0: default_part_count()
+  /// parts = 0 (the default here): default_part_count().
+  PartitionOptions partition = [] {
+    PartitionOptions defaults;
+    defaults.parts = 0;
+    return defaults;
+  }();
   /// Ignore partition.cells and use about one CVT cell per 100 quads, within
   /// [max(24 parts, 256), 4000]: a part needs ~24 cells for balance, and more cells
   /// than that only cost time when the quads are few.
