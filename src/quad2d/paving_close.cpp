@@ -502,20 +502,21 @@ void Paver::fallback(Index loop) {
 
 void Paver::close_region(const Polygon2& region, const std::vector<Index>& point_of, const std::string& where) {
   const auto boundary_count = static_cast<Index>(point_of.size());
-  RegionTriangulation tri;
-  std::vector<std::array<Index, 4>> quads, best;  // in triangulation numbering
-  std::vector<Vec2> best_points;
-  bool done = false;
-  for (const double factor : {1.0, 0.75, 0.55, 0.4, 0.3, 1.5, 0.0}) {
-    try {
-      tri = triangulate_region(region, {.steiner_spacing = factor * size_});
-    } catch (const Error& e) {
-      throw Error(where + " could not be closed: its fallback triangulation failed (" + e.what() + ")");
+  // Pairs the triangles into quads by a maximum-cardinality matching on the dual graph
+  // (triangles sharing an edge that is not on the loop), removes the doublets it
+  // leaves, and checks the quads: none folded, none with a reflex corner that
+  // smoothing cannot repair (the corner and both its neighbours input points).
+  std::vector<std::array<Index, 4>> quads;  // in triangulation numbering
+  auto fixed = [&](Index v) { return v < boundary_count && point_of[v] < mesh_.fixed_count; };
+  auto repairable = [&](const std::vector<Vec2>& P, const std::array<Index, 4>& q) {
+    for (int j = 0; j < 4; ++j) {
+      const Index u = q[(j + 3) % 4], v = q[j], w = q[(j + 1) % 4];
+      if (fixed(u) && fixed(v) && fixed(w) && !(cross(P[w] - P[v], P[u] - P[v]) > 0)) return false;
     }
-    if (tri.boundary_edges.size() != region.points.size()) continue;
+    return true;
+  };
+  auto pair_up = [&](RegionTriangulation& tri) {
     const std::size_t t = tri.triangles.size();
-    if (t % 2 != 0) continue;
-    // Dual graph: triangles sharing an edge that is not on the loop.
     std::map<std::pair<Index, Index>, Index> edge_owner;
     boost::adjacency_list<boost::vecS, boost::vecS, boost::undirectedS> graph(t);
     for (Index f = 0; f < t; ++f) {
@@ -529,7 +530,7 @@ void Paver::close_region(const Polygon2& region, const std::vector<Index>& point
     std::vector<boost::graph_traits<decltype(graph)>::vertex_descriptor> match(t);
     boost::edmonds_maximum_cardinality_matching(graph, &match[0]);
     const auto null = boost::graph_traits<decltype(graph)>::null_vertex();
-    if (std::any_of(match.begin(), match.end(), [null](auto v) { return v == null; })) continue;
+    if (std::any_of(match.begin(), match.end(), [null](auto v) { return v == null; })) return false;
     quads.clear();
     for (Index f = 0; f < t; ++f) {
       const auto g = static_cast<Index>(match[f]);
@@ -558,21 +559,72 @@ void Paver::close_region(const Polygon2& region, const std::vector<Index>& point
         };
         const auto q1 = rotate_to(quads[around[p][0]]), q2 = rotate_to(quads[around[p][1]]);
         if (q1[1] != q2[3] || q1[3] != q2[1]) continue;
-        quads[around[p][0]] = {q1[1], q1[2], q1[3], q2[2]};
+        const std::array<Index, 4> merged{q1[1], q1[2], q1[3], q2[2]};
+        quads[around[p][0]] = merged;
         quads.erase(quads.begin() + static_cast<std::ptrdiff_t>(around[p][1]));
         again = true;
+        if (repairable(tri.points, merged)) continue;
+        // A dart of input points (a reflex corner nothing can move): a ring of four
+        // quads around an inner quad instead, the inner points halfway to the middle
+        // of its inner diagonal (from the reflex corner).
+        int reflex = 0;
+        for (int j = 0; j < 4; ++j) {
+          const Vec2 &u = tri.points[merged[(j + 3) % 4]], &v = tri.points[merged[j]],
+                     &w = tri.points[merged[(j + 1) % 4]];
+          if (!(cross(w - v, u - v) > 0)) reflex = j;
+        }
+        const Vec2 mid = 0.5 * (tri.points[merged[reflex]] + tri.points[merged[(reflex + 2) % 4]]);
+        const auto first = static_cast<Index>(tri.points.size());
+        for (int j = 0; j < 4; ++j) tri.points.push_back(0.5 * (tri.points[merged[j]] + mid));
+        quads.erase(std::find(quads.begin(), quads.end(), merged));
+        for (Index j = 0; j < 4; ++j) quads.push_back({merged[j], merged[(j + 1) % 4], first + (j + 1) % 4, first + j});
+        quads.push_back({first, first + 1, first + 2, first + 3});
       }
     }
-    // A free loop point must not end as a doublet, and no quad may be folded.
-    std::vector<int> added(boundary_count, 0);
-    bool ok = true;
+    const auto& P = tri.points;
     for (const auto& q : quads) {
-      const auto& P = tri.points;
-      if (!(quad_area(P[q[0]], P[q[1]], P[q[2]], P[q[3]]) > 0)) ok = false;
+      if (!(quad_area(P[q[0]], P[q[1]], P[q[2]], P[q[3]]) > 0)) return false;
+      if (!repairable(P, q)) return false;
+    }
+    return true;
+  };
+
+  std::vector<std::array<Index, 4>> best;
+  std::vector<Vec2> best_points;
+  bool done = false;
+  for (const double factor : {1.0, 0.75, 0.55, 0.4, 0.3, 1.5, 0.0}) {
+    RegionTriangulation tri;
+    try {
+      tri = triangulate_region(region, {.steiner_spacing = factor * size_});
+    } catch (const Error& e) {
+      throw Error(where + " could not be closed: its fallback triangulation failed (" + e.what() + ")");
+    }
+    if (tri.boundary_edges.size() != region.points.size()) continue;
+    if (tri.triangles.size() % 2 != 0) continue;
+    if (!pair_up(tri)) {
+      // No perfect matching (narrow regions where no grid point fits: the dual is a
+      // tree with branches of odd size), or quads no smoothing repairs: every triangle
+      // is split into three at its centroid. Then a perfect matching always exists:
+      // the dual is connected with an even number t of nodes, so it has a subgraph in
+      // which every node has odd degree (a T-join, T = all nodes); a triangle of
+      // degree 1 or 3 there matches that many of its thirds across its edges and
+      // pairs the others inside it (a doublet at the centroid, removed). Every quad
+      // then has a centroid to smooth.
+      std::vector<std::array<Index, 3>> thirds;
+      thirds.reserve(3 * tri.triangles.size());
+      for (const auto& f : tri.triangles) {
+        const auto g = static_cast<Index>(tri.points.size());
+        tri.points.push_back((tri.points[f[0]] + tri.points[f[1]] + tri.points[f[2]]) / 3.0);
+        for (int j = 0; j < 3; ++j) thirds.push_back({f[j], f[(j + 1) % 3], g});
+      }
+      tri.triangles = std::move(thirds);
+      if (!pair_up(tri)) continue;
+    }
+    // A free loop point must not end as a doublet.
+    std::vector<int> added(boundary_count, 0);
+    for (const auto& q : quads)
       for (const Index v : q)
         if (v < boundary_count) ++added[v];
-    }
-    if (!ok) continue;
     bool doublet = false;
     for (Index i = 0; i < boundary_count; ++i) doublet |= makes_doublet(point_of[i], added[i]);
     if (!done || !doublet) {
@@ -584,15 +636,13 @@ void Paver::close_region(const Polygon2& region, const std::vector<Index>& point
   }
   if (!done) throw Error(where + " could not be closed: no perfect matching of its triangulation");
   quads = std::move(best);
-  tri.points = std::move(best_points);
-
-  std::vector<Index> mesh_id(tri.points.size(), kInvalidIndex);
+  std::vector<Index> mesh_id(best_points.size(), kInvalidIndex);
   for (Index i = 0; i < boundary_count; ++i) mesh_id[i] = point_of[i];
   for (const auto& q : quads) {
     std::array<Index, 4> mq{};
     for (int j = 0; j < 4; ++j) {
       if (mesh_id[q[j]] == kInvalidIndex) {
-        mesh_id[q[j]] = mesh_.add_point(tri.points[q[j]]);
+        mesh_id[q[j]] = mesh_.add_point(best_points[q[j]]);
         released_.push_back(mesh_id[q[j]]);
       }
       mq[j] = mesh_id[q[j]];
