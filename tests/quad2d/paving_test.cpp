@@ -423,7 +423,7 @@ TEST(Paving, KeyRegionIn32Parts) {
     for (std::size_t i = 0; i < ring.size(); ++i) perimeter += (ring[(i + 1) % ring.size()] - ring[i]).norm();
   }
   const double h = perimeter / 2000;
-  const Partition partition = partition_region(key, PartitionOptions{.parts = 32});
+  const Partition partition = partition_region(key, PartitionOptions{.parts = 32, .cells = 800});
   double sum = 0, worst = 1;
   std::size_t quads = 0, singular = 0, fallbacks = 0;
   for (std::size_t i = 0; i < partition.parts.size(); ++i) {
