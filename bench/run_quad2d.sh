@@ -36,7 +36,7 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
   echo "|---:|---:|---:|---:|---:|"
   for np in 1 2; do
     mpirun --oversubscribe -np $np "$bin/structmesh" quad2d key --segments 20000 --quads 2000000 --parts 64 \
-      --threads 1 -q --json "$work/mpi$np.json"
+      --threads 1 -q --json "$work/mpi$np.json" </dev/null
     /usr/bin/python3 -c "import json,sys; d=json.load(open(sys.argv[1])); t=d['stage_seconds']['total']; print(f\"| {d['ranks']} | {d['quads']} | {t:.2f} | {max(d['rank_paving_seconds']):.2f} | {d['quads']/t:.0f} |\")" "$work/mpi$np.json"
   done
   echo
