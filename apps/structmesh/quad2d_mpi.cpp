@@ -11,10 +11,10 @@
 #include "quad2d_command.hpp"
 #include "structmesh/error.hpp"
 #include "structmesh/io.hpp"
+#include "structmesh/progress.hpp"
 #include "structmesh/quality.hpp"
 
 #include <mpi.h>
-#include <sys/resource.h>
 
 #include <algorithm>
 #include <chrono>
@@ -182,12 +182,6 @@ RelaxComm make_comm(const Exchange& exchange) {
     return static_cast<std::size_t>(global);
   };
   return comm;
-}
-
-double peak_rss_mb() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return static_cast<double>(usage.ru_maxrss) / 1024.0;
 }
 
 // Rank 0's size, part areas, samples and part loops to every rank (the partition's

@@ -43,6 +43,9 @@ class Progress {
   bool enabled_ = false, tty_ = false, finished_ = false;
 };
 
+/// Peak resident memory of this process so far, in MB (getrusage's ru_maxrss).
+double peak_rss_mb();
+
 /// One status line on stderr unless quiet ("reading bunny.obj ...").
 void status(const std::string& message);
 

@@ -1,5 +1,7 @@
 #include "structmesh/progress.hpp"
 
+#include <sys/resource.h>
+
 #include <unistd.h>
 
 #include <cstdio>
@@ -81,6 +83,12 @@ void Progress::draw(bool final_line) {
 void status(const std::string& message) {
   if (progress_settings().quiet) return;
   std::fprintf(stderr, "%s\n", message.c_str());
+}
+
+double peak_rss_mb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
 }
 
 }  // namespace structmesh

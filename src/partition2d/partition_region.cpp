@@ -9,8 +9,6 @@
 #include "structmesh/error.hpp"
 #include "structmesh/progress.hpp"
 
-#include <sys/resource.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -35,12 +33,6 @@ class StageTimer {
   PartitionMetrics& metrics_;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
-
-double peak_rss_mb() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
-}
 
 void validate(const Polygon2& region, const PartitionOptions& options) {
   if (options.parts < 1) throw InputError("partition_region: --parts must be at least 1");
