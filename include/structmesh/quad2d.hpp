@@ -40,6 +40,7 @@ struct PavingStats {
   std::size_t splits = 0;          // front loops split or joined by a chord
   std::size_t templates = 0;       // small loops closed by a template
   std::size_t fallback_loops = 0;  // loops closed by the fallback (not by paving)
+  std::size_t repairs = 0;         // neighbourhoods of inverted quads remeshed by the fallback
   std::size_t mapped = 0;          // parts meshed as a structured grid (mapped_mesh), not paved
   std::size_t polar = 0;           // parts meshed as polar blocks (polar_mesh)
   /// 1 when the first run failed (a quad it could not untangle, a loop nothing closed)

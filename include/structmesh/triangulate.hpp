@@ -36,6 +36,13 @@ struct TriangulateOptions {
   /// is at most about a spacing across (the restricted Voronoi clipping of §2.2
   /// then meets only a few cells per triangle).
   double steiner_spacing = 0;
+  /// Points at exactly the same coordinates are one vertex, so rings may touch at a
+  /// point or pass a point twice (the loops left by advancing-front paving do: an
+  /// island's front touching the outer front). Triangles then use the smallest index
+  /// of each such group, and boundary_edges lists every ring segment once (zero-length
+  /// ones skipped), oriented with the region on its left. Without it a repeated point
+  /// is an InputError.
+  bool merge_repeated_points = false;
 };
 
 struct RegionTriangulation {
@@ -55,7 +62,7 @@ struct RegionTriangulation {
 };
 
 /// Triangulates `region`. InputError when the rings are not a valid region boundary:
-/// a ring with fewer than 3 points, non-finite or repeated points, crossing
+/// a ring with fewer than 3 points, non-finite or (unless merged) repeated points, crossing
 /// segments, or a vertex lying on another segment (what check_region reports as
 /// self-intersections; run it first for a full list of problems).
 RegionTriangulation triangulate_region(const Polygon2& region, const TriangulateOptions& options = {});

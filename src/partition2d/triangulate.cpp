@@ -210,15 +210,42 @@ std::vector<Point> steiner_grid(const Polygon2& region, double spacing) {
 
 // Builds the CDT of the rings (§2.1): points with their input index in bulk (spatially
 // sorted by CGAL), then one constraint per ring segment between vertex handles.
-void build(const Polygon2& region, double steiner_spacing, Cdt& cdt) {
+// The index of the first point at the same coordinates as each point (itself when
+// it is the first): sorting, O(n log n).
+std::vector<Index> first_at_same_place(const Polygon2& region) {
+  std::vector<Index> order(region.points.size());
+  std::iota(order.begin(), order.end(), Index{0});
+  const auto less = [&](Index a, Index b) {
+    const Vec2 &p = region.points[a], &q = region.points[b];
+    return p.x() != q.x() ? p.x() < q.x() : p.y() != q.y() ? p.y() < q.y() : a < b;
+  };
+  std::sort(order.begin(), order.end(), less);
+  std::vector<Index> first(region.points.size());
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const bool same = k > 0 && region.points[order[k - 1]] == region.points[order[k]];
+    first[order[k]] = same ? first[order[k - 1]] : order[k];
+  }
+  return first;
+}
+
+void build(const Polygon2& region, double steiner_spacing, bool merge_repeated, Cdt& cdt) {
   const std::size_t n = region.points.size();
+  // Without merging every point is its own vertex (a repeat is reported below).
+  std::vector<Index> vertex_of(n);
+  if (merge_repeated) {
+    vertex_of = first_at_same_place(region);
+  } else {
+    std::iota(vertex_of.begin(), vertex_of.end(), Index{0});
+  }
   const std::vector<Point> steiner = steiner_spacing > 0 ? steiner_grid(region, steiner_spacing) : std::vector<Point>{};
-  std::vector<std::pair<Point, VertexInfo>> pairs(n + steiner.size());
+  std::vector<std::pair<Point, VertexInfo>> pairs;
+  pairs.reserve(n + steiner.size());
   for (std::size_t i = 0; i < n; ++i) {
-    pairs[i] = {Point(region.points[i].x(), region.points[i].y()), VertexInfo{static_cast<Index>(i)}};
+    if (vertex_of[i] != i) continue;
+    pairs.emplace_back(Point(region.points[i].x(), region.points[i].y()), VertexInfo{static_cast<Index>(i)});
   }
   // Steiner points keep the default info (kInvalidIndex) and are numbered later by first use.
-  for (std::size_t i = 0; i < steiner.size(); ++i) pairs[n + i] = {steiner[i], VertexInfo{}};
+  for (const Point& p : steiner) pairs.emplace_back(p, VertexInfo{});
   cdt.insert(pairs.begin(), pairs.end());
   if (cdt.number_of_vertices() != pairs.size()) throw_duplicate(region);
 
@@ -226,11 +253,13 @@ void build(const Polygon2& region, double steiner_spacing, Cdt& cdt) {
   for (const VertexHandle v : cdt.finite_vertex_handles()) {
     if (v->info().id != kInvalidIndex) handle[v->info().id] = v;
   }
+  for (std::size_t i = 0; i < n; ++i) handle[i] = handle[vertex_of[i]];
 
   for (std::size_t r = 0; r < region.ring_count(); ++r) {
     const Index begin = region.ring_offsets[r], end = region.ring_offsets[r + 1];
     for (Index a = begin; a < end; ++a) {
       const Index b = a + 1 == end ? begin : a + 1;
+      if (handle[a] == handle[b]) continue;  // a merged zero-length segment
       try {
         cdt.insert_constraint(handle[a], handle[b]);
       } catch (const Cdt::Intersection_of_constraints_exception&) {
@@ -247,7 +276,7 @@ void build(const Polygon2& region, double steiner_spacing, Cdt& cdt) {
     const Index begin = region.ring_offsets[r], end = region.ring_offsets[r + 1];
     for (Index a = begin; a < end; ++a) {
       const Index b = a + 1 == end ? begin : a + 1;
-      if (!cdt.is_edge(handle[a], handle[b])) {
+      if (handle[a] != handle[b] && !cdt.is_edge(handle[a], handle[b])) {
         throw InputError("triangulate_region: a vertex of the region lies on " + segment_text(region, r, a, b) +
                          " (touching rings)");
       }
@@ -276,7 +305,8 @@ std::size_t inside_count(const Cdt& cdt) {
 // bound dominates; with the floor estimate below, first attempts land 0–26% off).
 // The count is then corrected (count ∝ 1/s²) until within ±25%, at most 4 attempts
 // (best effort); refining further works in place, coarsening needs a rebuild.
-void refine(const Polygon2& region, std::size_t target, double steiner_spacing, bool bound_size_above_floor, Cdt& cdt) {
+void refine(const Polygon2& region, std::size_t target, double steiner_spacing, bool bound_size_above_floor,
+            bool merge_repeated, Cdt& cdt) {
   using Criteria = CGAL::Delaunay_mesh_size_criteria_2<Cdt>;
   constexpr double kShapeBound = 0.125;
   CGAL::refine_Delaunay_mesh_2(cdt, Criteria(kShapeBound, 0), true);
@@ -304,19 +334,53 @@ void refine(const Polygon2& region, std::size_t target, double steiner_spacing, 
     size *= std::sqrt(ratio);
     if (ratio >= 1.25 && attempt + 1 < kAttempts) {
       cdt.clear();
-      build(region, steiner_spacing, cdt);
+      build(region, steiner_spacing, merge_repeated, cdt);
     }
   }
+}
+
+// The input segments, each with the region on its left (merge_repeated_points:
+// touching rings cannot be walked). Needs an unrefined triangulation, where every
+// segment is one edge.
+std::vector<std::array<Index, 2>> oriented_segments(const Polygon2& region, const Cdt& cdt) {
+  const std::vector<Index> vertex_of = first_at_same_place(region);
+  std::vector<VertexHandle> handle(region.points.size());
+  for (const VertexHandle v : cdt.finite_vertex_handles()) {
+    if (v->info().id < handle.size() && vertex_of[v->info().id] == v->info().id) handle[v->info().id] = v;
+  }
+  std::vector<std::array<Index, 2>> edges;
+  edges.reserve(region.points.size());
+  for (std::size_t r = 0; r < region.ring_count(); ++r) {
+    const Index begin = region.ring_offsets[r], end = region.ring_offsets[r + 1];
+    for (Index a = begin; a < end; ++a) {
+      const Index va = vertex_of[a], vb = vertex_of[a + 1 == end ? begin : a + 1];
+      if (va == vb) continue;
+      FaceHandle face;
+      int i = 0;
+      if (!cdt.is_edge(handle[va], handle[vb], face, i)) {
+        throw Error("triangulate_region: segment " + std::to_string(a) + " is not an edge of the triangulation");
+      }
+      // In a counter-clockwise face the edge opposite vertex i runs from ccw(i) to cw(i).
+      const bool face_on_left_of_ab = face->vertex(Cdt::ccw(i)) == handle[va];
+      const bool left_inside = face_on_left_of_ab == face->is_in_domain();
+      edges.push_back(left_inside ? std::array<Index, 2>{va, vb} : std::array<Index, 2>{vb, va});
+    }
+  }
+  return edges;
 }
 
 }  // namespace
 
 RegionTriangulation triangulate_region(const Polygon2& region, const TriangulateOptions& options) {
   check_rings(region);
+  if (options.merge_repeated_points && options.target_triangles > 0) {
+    throw InputError("triangulate_region: merge_repeated_points cannot be combined with refinement");
+  }
   Cdt cdt;
-  build(region, options.steiner_spacing, cdt);
+  build(region, options.steiner_spacing, options.merge_repeated_points, cdt);
   if (options.target_triangles > 0)
-    refine(region, options.target_triangles, options.steiner_spacing, options.bound_size_above_floor, cdt);
+    refine(region, options.target_triangles, options.steiner_spacing, options.bound_size_above_floor,
+           options.merge_repeated_points, cdt);
 
   // Deterministic, spatially local triangle order (§2.1): Hilbert order of centroids.
   std::vector<FaceHandle> faces;
@@ -349,6 +413,14 @@ RegionTriangulation triangulate_region(const Polygon2& region, const Triangulate
     result.triangles.push_back(t);
   }
 
+  if (options.merge_repeated_points) {
+    // Rings may touch, so a vertex can have several outgoing boundary edges and the
+    // rings cannot be walked: every input segment instead, turned so that the face on
+    // its left is inside. Refinement may have split a segment; then its first piece
+    // decides the direction and the pieces are listed in order.
+    result.boundary_edges = oriented_segments(region, cdt);
+    return result;
+  }
   // Constrained edges with the region on their left: in a counter-clockwise face the
   // edge opposite vertex i runs from ccw(i) to cw(i). Each boundary vertex has one
   // outgoing boundary edge (rings neither touch nor cross), so the rings can be walked.

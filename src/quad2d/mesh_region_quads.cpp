@@ -196,6 +196,7 @@ Quad2dResult mesh_region_quads(const Polygon2& region, const Quad2dOptions& opti
     report.paving.splits += part.stats.splits;
     report.paving.templates += part.stats.templates;
     report.paving.fallback_loops += part.stats.fallback_loops;
+    report.paving.repairs += part.stats.repairs;
     report.paving.mapped += part.stats.mapped;
     report.paving.polar += part.stats.polar;
     report.paving.retries += part.stats.retries;

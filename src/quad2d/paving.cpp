@@ -116,6 +116,89 @@ bool Paver::remove_slit(Index loop) {
   return true;
 }
 
+bool Paver::repair_inverted() {
+  // Some quads come out of paving with a connectivity that no smoothing can untangle
+  // (measured on the Gulf of Mexico: nearly collapsed quads of free points where
+  // fronts met at a jagged coast). Their neighbourhood, grown by one more ring of
+  // quads each round, is cut out and closed again by the fallback (triangulate and
+  // match, which checks every quad it makes); a patch whose boundary it cannot
+  // triangulate (overlapping quads around a fold) is grown further.
+  const auto inverted = [&](const std::array<Index, 4>& q) {
+    const auto& P = mesh_.points;
+    return !(scaled_jacobian(P[q[0]], P[q[1]], P[q[2]], P[q[3]]) > 0);
+  };
+  constexpr int kRounds = 6;
+  for (int round = 0; round < kRounds; ++round) {
+    std::vector<Index> patch;
+    std::vector<std::uint8_t> in_patch(mesh_.quads.size(), 0);
+    for (Index id = 0; id < mesh_.quads.size(); ++id) {
+      if (mesh_.quads[id][0] == kInvalidIndex || !inverted(mesh_.quads[id])) continue;
+      patch.push_back(id);
+      in_patch[id] = 1;
+    }
+    if (patch.empty()) return true;
+    std::size_t begin = 0;
+    for (int ring = 0; ring <= round; ++ring) {
+      const std::size_t end = patch.size();
+      for (std::size_t k = begin; k < end; ++k) {
+        for (const Index v : mesh_.quads[patch[k]]) {
+          mesh_.for_each_quad(v, [&](Index r) {
+            if (in_patch[r] || mesh_.quads[r][0] == kInvalidIndex) return;
+            in_patch[r] = 1;
+            patch.push_back(r);
+          });
+        }
+      }
+      begin = end;
+    }
+    // The patch boundary: its quads' edges whose reverse is in no quad of the patch,
+    // walked into closed rings (a point the boundary passes twice ends up in two
+    // rings or twice in one; the triangulation merges it).
+    std::vector<std::pair<Index, Index>> edges;
+    for (const Index id : patch)
+      for (int j = 0; j < 4; ++j) edges.emplace_back(mesh_.quads[id][j], mesh_.quads[id][(j + 1) % 4]);
+    std::sort(edges.begin(), edges.end());
+    std::vector<std::pair<Index, Index>> boundary;
+    for (const auto& [a, b] : edges)
+      if (!std::binary_search(edges.begin(), edges.end(), std::make_pair(b, a))) boundary.emplace_back(a, b);
+    std::vector<std::uint8_t> used(boundary.size(), 0);
+    Polygon2 region;
+    std::vector<Index> point_of;
+    for (std::size_t e = 0; e < boundary.size(); ++e) {
+      if (used[e]) continue;
+      std::vector<Vec2> ring;
+      const Index start = boundary[e].first;
+      std::size_t at = e;
+      while (true) {
+        used[at] = 1;
+        ring.push_back(mesh_.points[boundary[at].first]);
+        point_of.push_back(boundary[at].first);
+        const Index b = boundary[at].second;
+        if (b == start) break;
+        auto it = std::lower_bound(boundary.begin(), boundary.end(), std::make_pair(b, Index{0}));
+        while (it != boundary.end() && it->first == b && used[static_cast<std::size_t>(it - boundary.begin())]) ++it;
+        if (it == boundary.end() || it->first != b) break;  // cannot happen: in = out degree
+        at = static_cast<std::size_t>(it - boundary.begin());
+      }
+      region.add_ring(ring);
+    }
+    try {
+      close_region(region, point_of, "paving: remeshing around inverted quads");
+    } catch (const Error&) {
+      continue;  // a larger patch next round
+    }
+    for (const Index id : patch) mesh_.quads[id] = {kInvalidIndex, kInvalidIndex, kInvalidIndex, kInvalidIndex};
+    mesh_.rebuild_records();
+    released_.clear();
+    collapse_doublets();
+    final_smoothing();
+    ++stats_.repairs;
+  }
+  for (const auto& q : mesh_.quads)
+    if (q[0] != kInvalidIndex && inverted(q)) return false;
+  return true;
+}
+
 PavedPart Paver::run() {
   std::deque<Index> queue;
   for (Index l = 0; l < loops_.size(); ++l) queue.push_back(l);
@@ -158,6 +241,7 @@ PavedPart Paver::run() {
   collapse_doublets();
   collapse_diamonds();
   final_smoothing();
+  repair_inverted();
 
   // Output: the input points, then the new points still in use, in creation order.
   PavedPart part;

@@ -229,6 +229,9 @@ class Paver {
   void collapse_diamonds();
 
   void emit_quad(const std::array<Index, 4>& q);
+  /// Remeshes the neighbourhood of every quad that smoothing left inverted or
+  /// degenerate (paving.cpp); false when some are left.
+  bool repair_inverted();
 
   const PavingOptions options_;
   double size_ = 0;

@@ -524,7 +524,21 @@ void Paver::close_region(const Polygon2& region, const std::vector<Index>& point
         Index a = tri.triangles[f][j], b = tri.triangles[f][(j + 1) % 3];
         if (a > b) std::swap(a, b);
         const auto [it, fresh] = edge_owner.emplace(std::make_pair(a, b), f);
-        if (!fresh) boost::add_edge(it->second, f, graph);
+        if (fresh) continue;
+        // Pairs that would make a dart of input points (a reflex corner at three
+        // points nothing moves) are left out, so the matching routes around them.
+        const auto& t1 = tri.triangles[it->second];
+        const auto& t2 = tri.triangles[f];
+        const auto third = [&](const std::array<Index, 3>& t) {
+          for (const Index v : t)
+            if (v != a && v != b) return v;
+          return a;
+        };
+        std::array<Index, 4> q{};
+        for (int k = 0; k < 3; ++k)
+          if (t1[k] != a && t1[k] != b) q = {t1[k], t1[(k + 1) % 3], third(t2), t1[(k + 2) % 3]};
+        if (!repairable(tri.points, q)) continue;
+        boost::add_edge(it->second, f, graph);
       }
     }
     std::vector<boost::graph_traits<decltype(graph)>::vertex_descriptor> match(t);
@@ -595,7 +609,8 @@ void Paver::close_region(const Polygon2& region, const std::vector<Index>& point
   for (const double factor : {1.0, 0.75, 0.55, 0.4, 0.3, 1.5, 0.0}) {
     RegionTriangulation tri;
     try {
-      tri = triangulate_region(region, {.steiner_spacing = factor * size_});
+      // A loop may touch a hole's loop (or itself) at a point: one vertex there.
+      tri = triangulate_region(region, {.steiner_spacing = factor * size_, .merge_repeated_points = true});
     } catch (const Error& e) {
       throw Error(where + " could not be closed: its fallback triangulation failed (" + e.what() + ")");
     }
@@ -620,13 +635,15 @@ void Paver::close_region(const Polygon2& region, const std::vector<Index>& point
       tri.triangles = std::move(thirds);
       if (!pair_up(tri)) continue;
     }
-    // A free loop point must not end as a doublet.
-    std::vector<int> added(boundary_count, 0);
+    // A free loop point must not end as a doublet (counted per mesh point: a point
+    // the region passes twice is one triangulation vertex).
+    std::map<Index, int> added;
+    for (Index i = 0; i < boundary_count; ++i) added.emplace(point_of[i], 0);
     for (const auto& q : quads)
       for (const Index v : q)
-        if (v < boundary_count) ++added[v];
+        if (v < boundary_count) ++added[point_of[v]];
     bool doublet = false;
-    for (Index i = 0; i < boundary_count; ++i) doublet |= makes_doublet(point_of[i], added[i]);
+    for (const auto& [point, count] : added) doublet |= makes_doublet(point, count);
     if (!done || !doublet) {
       best = quads;
       best_points = tri.points;

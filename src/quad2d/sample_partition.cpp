@@ -21,6 +21,7 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <queue>
 #include <string>
 
 namespace structmesh {
@@ -50,6 +51,9 @@ struct CurvePlan {
   /// resampling would cross something), plus the midpoint of segment
   /// `extra_midpoint` when the count's parity has to stay.
   bool exact = false;
+  /// A region boundary curve whose polyline holds only some of its input vertices
+  /// (thinned_vertices at the size / 2^thin_level); exact then means those.
+  int thin_level = 0;
   std::size_t extra_midpoint = std::numeric_limits<std::size_t>::max();
   std::vector<double> lengths;
   std::vector<Index> segments;
@@ -102,19 +106,116 @@ std::vector<Vec2> smoothed_separator(const std::vector<Vec2>& polyline, double s
   return points;
 }
 
-CurvePlan plan_curve(const Partition& partition, const PartitionCurve& curve, double size, bool smooth) {
+// A region boundary finer than the element size (a natural coastline: inlets and
+// spits of a few hundred metres meshed at a kilometre and more) is thinned before it
+// is sampled: walking along it, a vertex is kept when it is at least half a size
+// from the last kept one, or when it is a corner of the boundary at the mesh's scale
+// (turns by more than kCornerTurn between edges of at least half a size, like the
+// Key's teeth). Sampling every input vertex there, or cutting the raw polyline by arc
+// length, gives part boundaries of needle-like spikes between points a mesher cannot
+// move: measured on the Gulf of Mexico at 1M quads, 59 of 512 parts could not be
+// paved without an inverted quad. Kept vertices are input vertices, so the region
+// is reproduced within half a size; where the thinned boundary would cross
+// something, sample_partition goes back to every input vertex (follow_input).
+// Visvalingam-Whyatt simplification (1993), measured at the element size: drops the
+// vertex whose triangle with its two neighbours is least significant while that
+// triangle is smaller than (size/4)^2 or thinner than size/8 (its height over its
+// longest side): a heap with lazy deletion, O(n log n). Unlike a distance tolerance
+// it also removes long needle-like spits and inlets, which no quad of that size can
+// follow, while keeping broad features.
+std::vector<Index> visvalingam(const Partition& partition, const std::vector<Index>& vertices, double size) {
+  const std::size_t n = vertices.size();
+  if (n < 4) return vertices;
+  const auto at = [&](std::size_t i) -> const Vec2& { return partition.metric_vertices[vertices[i]]; };
+  std::vector<std::size_t> prev(n), next(n);
+  for (std::size_t i = 0; i < n; ++i) prev[i] = i - 1, next[i] = i + 1;
+  const double area_limit = 0.0625 * size * size, thin_limit = 0.125 * size;
+  // Significance below 1: the vertex goes.
+  const auto significance = [&](std::size_t i) {
+    const Vec2 u = at(prev[i]) - at(i), v = at(next[i]) - at(i);
+    const double area = 0.5 * std::abs(u.x() * v.y() - u.y() * v.x());
+    const double longest = std::max({u.norm(), v.norm(), (at(next[i]) - at(prev[i])).norm()});
+    const double height = longest > 0 ? 2 * area / longest : 0.0;
+    return std::min(area / area_limit, height / thin_limit);
+  };
+  std::vector<double> key(n, std::numeric_limits<double>::infinity());
+  using Entry = std::pair<double, std::size_t>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> heap;
+  for (std::size_t i = 1; i + 1 < n; ++i) heap.emplace(key[i] = significance(i), i);
+  std::vector<std::uint8_t> removed(n, 0);
+  std::size_t left = n;
+  while (!heap.empty() && left > 4) {
+    const auto [value, i] = heap.top();
+    heap.pop();
+    if (removed[i] || value != key[i]) continue;  // stale entry
+    if (value >= 1) break;
+    removed[i] = 1;
+    --left;
+    next[prev[i]] = next[i];
+    prev[next[i]] = prev[i];
+    for (const std::size_t j : {prev[i], next[i]})
+      if (j != 0 && j + 1 != n) heap.emplace(key[j] = significance(j), j);
+  }
+  std::vector<Index> kept;
+  for (std::size_t i = 0; i < n; ++i)
+    if (!removed[i]) kept.push_back(vertices[i]);
+  return kept;
+}
+
+std::vector<Index> thinned_vertices(const Partition& partition, const PartitionCurve& curve, double size) {
+  const std::vector<Index> all = visvalingam(partition, curve.vertices, size);
+  const auto at = [&](std::size_t i) -> const Vec2& { return partition.metric_vertices[all[i]]; };
+  const std::size_t last = all.size() - 1;
+  const double reach = 0.5 * size;
+  std::vector<Index> kept{all.front()};
+  std::size_t previous = 0;
+  std::vector<std::uint8_t> forced(all.size(), 0);
+  for (std::size_t i = 1; i < last; ++i) {
+    forced[i] = turning_angle(at(i - 1), at(i), at(i + 1)) > kCornerTurn && (at(i) - at(i - 1)).norm() >= reach &&
+                (at(i + 1) - at(i)).norm() >= reach;
+    if (!forced[i] && (at(i) - at(previous)).norm() < reach) continue;
+    kept.push_back(all[i]);
+    previous = i;
+  }
+  // The end is a junction or the start of a closed curve: always kept; a kept vertex
+  // too close before it goes unless it is a corner.
+  if (kept.size() > 1 && previous != 0 && !forced[previous] && (at(last) - at(previous)).norm() < 0.5 * reach)
+    kept.pop_back();
+  kept.push_back(all.back());
+  const bool closed = all.front() == all.back();
+  if (closed && kept.size() < 5) return curve.vertices;  // an island about the size of an element keeps its shape
+  return kept;
+}
+
+// thin_level: 0 thins at the element size; each level halves the scale; at
+// kFullDetail every input vertex is kept.
+constexpr int kFullDetail = 4;
+
+CurvePlan plan_curve(const Partition& partition, const PartitionCurve& curve, double size, bool smooth,
+                     int thin_level = 0) {
   CurvePlan plan;
-  for (const Index v : curve.vertices) plan.polyline.push_back(partition.metric_vertices[v]);
+  const bool boundary = curve.kind == PartitionCurve::Kind::Boundary;
+  // Only a boundary finer than the elements is thinned (on average more than two
+  // vertices per element edge); a designed shape like the Key keeps its vertices.
+  double length = 0;
+  for (std::size_t i = 1; i < curve.vertices.size(); ++i)
+    length += (partition.metric_vertices[curve.vertices[i]] - partition.metric_vertices[curve.vertices[i - 1]]).norm();
+  const bool fine = length < 0.5 * size * static_cast<double>(curve.vertices.size() - 1);
+  const std::vector<Index> vertices = boundary && fine && thin_level < kFullDetail
+                                          ? thinned_vertices(partition, curve, std::ldexp(size, -thin_level))
+                                          : curve.vertices;
+  plan.thin_level = vertices.size() != curve.vertices.size() ? thin_level : kFullDetail;
+  for (const Index v : vertices) plan.polyline.push_back(partition.metric_vertices[v]);
   const std::size_t last = plan.polyline.size() - 1;
   plan.closed = curve.vertices.front() == curve.vertices.back();
   plan.breaks.push_back(0);
-  if (curve.kind == PartitionCurve::Kind::Boundary) {
+  if (boundary) {
     for (std::size_t i = 1; i < last; ++i)
       if (turning_angle(plan.polyline[i - 1], plan.polyline[i], plan.polyline[i + 1]) > kCornerTurn)
         plan.breaks.push_back(i);
   }
   plan.breaks.push_back(last);
-  for (const std::size_t b : plan.breaks) plan.break_vertices.push_back(curve.vertices[b]);
+  for (const std::size_t b : plan.breaks) plan.break_vertices.push_back(vertices[b]);
   if (smooth && curve.kind == PartitionCurve::Kind::Separator && !plan.closed) {
     plan.polyline = smoothed_separator(plan.polyline, size);
     plan.breaks = {0, plan.polyline.size() - 1};
@@ -199,8 +300,7 @@ Samples sample_positions(const CurvePlan& plan) {
 
 // Turns a region boundary plan exact (its own vertices as samples), keeping the
 // parity of its total count so that no part's boundary becomes odd.
-void make_exact(CurvePlan& plan) {
-  const Index before = total_segments(plan);
+void make_exact(CurvePlan& plan, Index before) {
   plan.exact = true;
   plan.extra_midpoint = std::numeric_limits<std::size_t>::max();
   std::vector<Index> counts;
@@ -559,8 +659,13 @@ SampledPartition sample_partition(const Partition& partition, double size, bool 
       plans[c].segments = segments;
       return true;
     }
-    if (partition.curves[c].kind == PartitionCurve::Kind::Boundary && !plans[c].exact) {
-      make_exact(plans[c]);
+    if (partition.curves[c].kind == PartitionCurve::Kind::Boundary &&
+        (!plans[c].exact || plans[c].thin_level < kFullDetail)) {
+      // First the thinned polyline's own vertices, then ones thinned at half the
+      // scale, and so on down to every input vertex.
+      const Index before = total_segments(plans[c]);
+      if (plans[c].exact) plans[c] = plan_curve(partition, partition.curves[c], size, false, plans[c].thin_level + 1);
+      make_exact(plans[c], before);
       return true;
     }
     return false;

@@ -345,6 +345,27 @@ TEST(Triangulate, RepeatedPointIsAnInputError) {
   EXPECT_NE(message.find("coincide"), std::string::npos) << message;
 }
 
+TEST(Triangulate, RingsTouchingAtAPointWhenMerged) {
+  // A triangular hole whose vertex is the outer square's corner (4, 0), as a paving
+  // front touching an island's front: an InputError by default; merged, the corner
+  // is one vertex, the area is exact and every segment is one oriented edge.
+  const Polygon2 region = make_polygon({{{0, 0}, {4, 0}, {4, 4}, {0, 4}}, {{4, 0}, {2, 1}, {3, 2}}});
+  EXPECT_NE(input_error(region).find("coincide"), std::string::npos);
+  const RegionTriangulation tri = triangulate_region(region, {.merge_repeated_points = true});
+  EXPECT_EQ(total_area(tri), 16.0 - 1.5);
+  ASSERT_EQ(tri.boundary_edges.size(), region.points.size());
+  for (const auto& t : tri.triangles)
+    for (const Index v : t) EXPECT_NE(v, 4u) << "the repeated corner is vertex 1";
+  for (const auto& [a, b] : tri.boundary_edges) {
+    // The region is on the left: the edge's triangle has its third vertex there.
+    bool found = false;
+    for (const auto& t : tri.triangles)
+      for (int j = 0; j < 3; ++j)
+        if (t[j] == a && t[(j + 1) % 3] == b) found = true;
+    EXPECT_TRUE(found) << a << "->" << b;
+  }
+}
+
 TEST(Triangulate, ShortRingAndEmptyRegionAreInputErrors) {
   EXPECT_NE(input_error(make_polygon({{{0, 0}, {1, 0}}})).find("fewer than 3"), std::string::npos);
   EXPECT_NE(input_error(Polygon2{}).find("no rings"), std::string::npos);

@@ -244,5 +244,56 @@ TEST(SamplePartition, CoarseSamplesNeverCutThroughAnIsland) {
   }
 }
 
+TEST(SamplePartition, CoastFinerThanTheElementsIsThinnedAndPaves) {
+  // A unit square whose bottom side is a sawtooth of 400 teeth (period 0.0025,
+  // amplitude 0.01, so every vertex turns by far more than 25 degrees) with a
+  // needle-like spit 0.15 long and 0.004 wide, meshed at 0.05: kept as is, every
+  // tooth would be a sample and the spit a pair of 2-degree corners no quad of that
+  // size can follow. Thinned, samples are input vertices at least a quarter size
+  // apart, the region deviates by at most the teeth, and the part paves.
+  std::vector<Vec2> ring;
+  for (int i = 0; i <= 400; ++i) {
+    const double x = i / 400.0;
+    if (i == 200) {
+      ring.emplace_back(x - 0.002, 0.0);
+      ring.emplace_back(x, -0.15);
+      ring.emplace_back(x + 0.002, 0.0);
+      continue;
+    }
+    ring.emplace_back(x, i % 2 == 0 ? 0.0 : -0.01);
+  }
+  ring.emplace_back(1.0, 1.0);
+  ring.emplace_back(0.0, 1.0);
+  Polygon2 region;
+  region.add_ring(ring);
+  PartitionOptions options;
+  options.parts = 1;
+  const Partition partition = partition_region(region, options);
+  const double size = 0.05;
+  const SampledPartition sampled = sample_partition(partition, size);
+  expect_valid_sampling(sampled, size);
+  const auto& loop = sampled.part_loops[0][0];
+  EXPECT_LT(loop.size(), 100U);  // 4 sides of about 20 samples, not 400 teeth
+  for (std::size_t i = 0; i < loop.size(); ++i) {
+    const Vec2& p = sampled.points[loop[i]];
+    EXPECT_GT(p.y(), -0.0101) << "sample " << i << " is on the spit";
+    EXPECT_GT((sampled.points[loop[(i + 1) % loop.size()]] - p).norm(), 0.25 * size) << "sample " << i;
+  }
+  const auto [boundary, point_of] = part_boundary(sampled, 0);
+  EXPECT_NEAR(std::abs(area(boundary)), std::abs(area(region)), 0.01);
+  const PavedPart part = pave(boundary, PavingOptions{.size = size});
+  for (const auto& q : part.quads) {
+    const Vec2 &a = part.points[q[0]], &b = part.points[q[1]], &c = part.points[q[2]], &d = part.points[q[3]];
+    const auto corner = [](const Vec2& u, const Vec2& v, const Vec2& w) {
+      const Vec2 e = w - v, f = u - v;
+      return e.x() * f.y() - e.y() * f.x();
+    };
+    EXPECT_GT(corner(d, a, b), 0.0);
+    EXPECT_GT(corner(a, b, c), 0.0);
+    EXPECT_GT(corner(b, c, d), 0.0);
+    EXPECT_GT(corner(c, d, a), 0.0);
+  }
+}
+
 }  // namespace
 }  // namespace structmesh
