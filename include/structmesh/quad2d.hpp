@@ -46,6 +46,8 @@ struct PavingStats {
   /// 1 when the first run failed (a quad it could not untangle, a loop nothing closed)
   /// and a run with a slightly different target size gave this mesh.
   std::size_t retries = 0;
+  /// Topological cleanup after paving (edge rotations, diagonal collapses, doublets).
+  std::size_t cleanup_operations = 0;
 };
 
 struct PavedPart {

@@ -200,6 +200,7 @@ Quad2dResult mesh_region_quads(const Polygon2& region, const Quad2dOptions& opti
     report.paving.mapped += part.stats.mapped;
     report.paving.polar += part.stats.polar;
     report.paving.retries += part.stats.retries;
+    report.paving.cleanup_operations += part.stats.cleanup_operations;
   }
   paved.clear();
   paved.shrink_to_fit();

@@ -9,6 +9,7 @@
 // holds the input points first. A run that still fails is repeated with a slightly
 // different target size before an Error is thrown.
 #include "quad2d/paving.hpp"
+#include "quad2d/quad_cleanup.hpp"
 
 #include "structmesh/check.hpp"
 #include "structmesh/error.hpp"
@@ -284,6 +285,9 @@ PavedPart pave(const Polygon2& boundary, const PavingOptions& options) {
     try {
       PavedPart part = paver.run();
       part.stats.retries = first_error.empty() ? 0 : 1;
+      const paving::CleanupStats cleanup =
+          paving::clean_up_quads(part.points, part.quads, static_cast<Index>(boundary.points.size()), paver.size());
+      part.stats.cleanup_operations = cleanup.swaps + cleanup.collapses + cleanup.doublets;
       return part;
     } catch (const InputError&) {
       throw;
