@@ -80,8 +80,9 @@ void check_rings(const Polygon2& region) {
   }
 }
 
-// The CDT inserted n points but holds fewer vertices: name two coincident points.
-[[noreturn]] void throw_duplicate(const Polygon2& region) {
+// The index of the first point at the same coordinates as each point (itself when
+// it is the first): sorting, O(n log n).
+std::vector<Index> first_at_same_place(const Polygon2& region) {
   std::vector<Index> order(region.points.size());
   std::iota(order.begin(), order.end(), Index{0});
   const auto less = [&](Index a, Index b) {
@@ -89,11 +90,21 @@ void check_rings(const Polygon2& region) {
     return p.x() != q.x() ? p.x() < q.x() : p.y() != q.y() ? p.y() < q.y() : a < b;
   };
   std::sort(order.begin(), order.end(), less);
-  for (std::size_t k = 1; k < order.size(); ++k) {
-    if (region.points[order[k - 1]] == region.points[order[k]]) {
-      throw InputError("triangulate_region: points " + std::to_string(order[k - 1]) + " and " +
-                       std::to_string(order[k]) + " coincide at " + point_text(region.points[order[k]]) +
-                       " (repeated point or touching rings)");
+  std::vector<Index> first(region.points.size());
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const bool same = k > 0 && region.points[order[k - 1]] == region.points[order[k]];
+    first[order[k]] = same ? first[order[k - 1]] : order[k];
+  }
+  return first;
+}
+
+// The CDT inserted n points but holds fewer vertices: name two coincident points.
+[[noreturn]] void throw_duplicate(const Polygon2& region) {
+  const std::vector<Index> first = first_at_same_place(region);
+  for (Index i = 0; i < first.size(); ++i) {
+    if (first[i] != i) {
+      throw InputError("triangulate_region: points " + std::to_string(first[i]) + " and " + std::to_string(i) +
+                       " coincide at " + point_text(region.points[i]) + " (repeated point or touching rings)");
     }
   }
   throw Error("triangulate_region: the triangulation lost input points for no visible reason");
@@ -210,24 +221,6 @@ std::vector<Point> steiner_grid(const Polygon2& region, double spacing) {
 
 // Builds the CDT of the rings (§2.1): points with their input index in bulk (spatially
 // sorted by CGAL), then one constraint per ring segment between vertex handles.
-// The index of the first point at the same coordinates as each point (itself when
-// it is the first): sorting, O(n log n).
-std::vector<Index> first_at_same_place(const Polygon2& region) {
-  std::vector<Index> order(region.points.size());
-  std::iota(order.begin(), order.end(), Index{0});
-  const auto less = [&](Index a, Index b) {
-    const Vec2 &p = region.points[a], &q = region.points[b];
-    return p.x() != q.x() ? p.x() < q.x() : p.y() != q.y() ? p.y() < q.y() : a < b;
-  };
-  std::sort(order.begin(), order.end(), less);
-  std::vector<Index> first(region.points.size());
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    const bool same = k > 0 && region.points[order[k - 1]] == region.points[order[k]];
-    first[order[k]] = same ? first[order[k - 1]] : order[k];
-  }
-  return first;
-}
-
 void build(const Polygon2& region, double steiner_spacing, bool merge_repeated, Cdt& cdt) {
   const std::size_t n = region.points.size();
   // Without merging every point is its own vertex (a repeat is reported below).

@@ -46,6 +46,26 @@ inline double scaled_jacobian(const Vec2& p0, const Vec2& p1, const Vec2& p2, co
   return std::min(std::min(j0, j1), std::min(j2, j3));
 }
 
+/// One round of a compass pattern search: tries the eight directions at distance
+/// `step` from `at` and moves to every one that raises `quality` (a function of the
+/// position); true when it moved. Shared by paving's and the cleanup's optimisation.
+template <class Quality>
+bool pattern_search_round(Vec2& at, double step, double& now, Quality&& quality) {
+  constexpr double kDiag = 0.70710678118654752;
+  bool improved = false;
+  for (const Vec2& d : {Vec2(1, 0), Vec2(-1, 0), Vec2(0, 1), Vec2(0, -1), Vec2(kDiag, kDiag), Vec2(-kDiag, -kDiag),
+                        Vec2(kDiag, -kDiag), Vec2(-kDiag, kDiag)}) {
+    const Vec2 to = at + step * d;
+    const double q = quality(to);
+    if (q > now + 1e-12) {
+      now = q;
+      at = to;
+      improved = true;
+    }
+  }
+  return improved;
+}
+
 inline double quad_area(const Vec2& p0, const Vec2& p1, const Vec2& p2, const Vec2& p3) {
   return 0.5 * (cross(p2 - p0, p3 - p1));
 }

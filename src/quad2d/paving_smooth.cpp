@@ -64,20 +64,10 @@ bool Paver::optimize_point(Index p, double step_scale) {
   if (count == 0) return false;
   double step = step_scale * len / count;
   bool improved_any = false;
-  static constexpr double kDiag = 0.70710678118654752;
   const double smallest = 0.01 * step;
   for (int it = 0; it < 16 && step > smallest; ++it) {
-    bool improved = false;
-    for (const Vec2& d : {Vec2(1, 0), Vec2(-1, 0), Vec2(0, 1), Vec2(0, -1), Vec2(kDiag, kDiag), Vec2(-kDiag, -kDiag),
-                          Vec2(kDiag, -kDiag), Vec2(-kDiag, kDiag)}) {
-      const Vec2 to = at + step * d;
-      const double q = mesh_.min_quality_around(p, to);
-      if (q > now + 1e-12) {
-        now = q;
-        at = to;
-        improved = true;
-      }
-    }
+    const bool improved =
+        pattern_search_round(at, step, now, [&](const Vec2& to) { return mesh_.min_quality_around(p, to); });
     if (!improved) step *= 0.5;
     improved_any |= improved;
   }

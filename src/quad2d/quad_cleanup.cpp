@@ -378,21 +378,10 @@ class Cleaner {
       len += (P_[q[(find(q, p) + 1) % 4]] - at).norm();
     }
     double step = 0.2 * len / static_cast<double>(cnt_[p]);
-    static constexpr double kDiag = 0.70710678118654752;
     const double smallest = 0.01 * step;
     bool improved_any = false;
     for (int it = 0; it < 24 && step > smallest; ++it) {
-      bool improved = false;
-      for (const Vec2& d : {Vec2(1, 0), Vec2(-1, 0), Vec2(0, 1), Vec2(0, -1), Vec2(kDiag, kDiag), Vec2(-kDiag, -kDiag),
-                            Vec2(kDiag, -kDiag), Vec2(-kDiag, kDiag)}) {
-        const Vec2 to = at + step * d;
-        const double q = quality_around(p, to);
-        if (q > now + 1e-12) {
-          now = q;
-          at = to;
-          improved = true;
-        }
-      }
+      const bool improved = pattern_search_round(at, step, now, [&](const Vec2& to) { return quality_around(p, to); });
       if (!improved) step *= 0.5;
       improved_any |= improved;
     }
@@ -435,12 +424,20 @@ class Cleaner {
         if (v >= fixed_) pts.push_back(v);
     }
     if (ring) {
-      const std::size_t n = pts.size();
-      for (std::size_t i = 0; i < n; ++i)
-        for (const Index id : quads_of(pts[i]))
-          for (const Index v : Q_[id])
-            if (v >= fixed_) pts.push_back(v);
+      add_ring(pts);
+    } else {
+      std::sort(pts.begin(), pts.end());
+      pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
     }
+  }
+
+  /// Adds the free points of the quads around `pts`; sorted, without repeats.
+  void add_ring(std::vector<Index>& pts) const {
+    const std::size_t n = pts.size();
+    for (std::size_t i = 0; i < n; ++i)
+      for (const Index id : quads_of(pts[i]))
+        for (const Index v : Q_[id])
+          if (v >= fixed_) pts.push_back(v);
     std::sort(pts.begin(), pts.end());
     pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
   }
@@ -615,13 +612,7 @@ class Cleaner {
     std::vector<Index> pts;
     for (Index p = fixed_; p < P_.size(); ++p)
       if (touched_[p] && alive(p)) pts.push_back(p);
-    const std::size_t n = pts.size();
-    for (std::size_t i = 0; i < n; ++i)
-      for (const Index id : quads_of(pts[i]))
-        for (const Index v : Q_[id])
-          if (v >= fixed_) pts.push_back(v);
-    std::sort(pts.begin(), pts.end());
-    pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+    add_ring(pts);
     for (int sweep = 0; sweep < 20; ++sweep) {
       double moved = 0;
       for (const Index p : pts) {
