@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <numeric>
 #include <string>
 
 namespace structmesh {
@@ -57,30 +58,36 @@ Paver::Paver(const Polygon2& boundary, const PavingOptions& options) : options_(
   mesh_.quads.reserve(static_cast<std::size_t>(1.2 * expected) + 16);
 
   for (std::size_t r = 0; r < rings; ++r) {
-    const auto id = static_cast<Index>(loops_.size());
-    const Index begin = boundary.ring_offsets[r], end = boundary.ring_offsets[r + 1];
-    Loop loop;
-    loop.alive = true;
-    loop.size = end - begin;
-    loop.area = signed_area(boundary.ring(r));
-    Index first = kInvalidIndex, last = kInvalidIndex;
-    for (Index p = begin; p < end; ++p) {
-      const Index n = new_node(p, id);
-      if (first == kInvalidIndex) {
-        first = n;
-      } else {
-        set_next(last, n);
-      }
-      last = n;
-    }
-    set_next(last, first);
-    loop.head = first;
-    if (loop.area < 0) {
-      negative_loops_.push_back(id);
-      loop.listed = true;
-    }
-    loops_.push_back(loop);
+    std::vector<Index> ring(boundary.ring_offsets[r + 1] - boundary.ring_offsets[r]);
+    std::iota(ring.begin(), ring.end(), boundary.ring_offsets[r]);
+    add_loop(ring, signed_area(boundary.ring(r)));
   }
+}
+
+Index Paver::add_loop(std::span<const Index> points, double area) {
+  const auto id = static_cast<Index>(loops_.size());
+  Loop loop;
+  loop.alive = true;
+  loop.size = static_cast<Index>(points.size());
+  loop.area = area;
+  Index first = kInvalidIndex, last = kInvalidIndex;
+  for (const Index p : points) {
+    const Index n = new_node(p, id);
+    if (first == kInvalidIndex) {
+      first = n;
+    } else {
+      set_next(last, n);
+    }
+    last = n;
+  }
+  set_next(last, first);
+  loop.head = first;
+  if (loop.area < 0) {
+    negative_loops_.push_back(id);
+    loop.listed = true;
+  }
+  loops_.push_back(loop);
+  return id;
 }
 
 constexpr Index kEarLoop = 12;

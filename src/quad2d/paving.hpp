@@ -199,6 +199,9 @@ class Paver {
   /// is not valid: poor shape, leaves the unmeshed region, crosses the front.
   bool try_quad(const std::array<Slot, 4>& slots, double min_quality, double local_size);
   void relabel(Index start, Index stop, Index loop);
+  /// Adds a closed front loop through these mesh points (in order) and returns its
+  /// id; a loop of negative area (a hole) is listed in negative_loops_.
+  Index add_loop(std::span<const Index> points, double area);
   std::vector<Index> loop_nodes(Index loop) const;
 
   // --- rows, seams and splits (paving_rows.cpp)

@@ -383,24 +383,7 @@ bool Paver::close_with_ring(Index loop) {
   for (const Index v : nodes) kill_node(v);
   loops_[loop].alive = false;
   loops_[loop].size = 0;
-  const auto id = static_cast<Index>(loops_.size());
-  Loop fresh;
-  fresh.alive = true;
-  fresh.size = static_cast<Index>(n);
-  fresh.area = signed_area(inner);
-  Index first = kInvalidIndex, last = kInvalidIndex;
-  for (std::size_t i = 0; i < n; ++i) {
-    const Index f = new_node(pts[i], id);
-    if (first == kInvalidIndex) {
-      first = f;
-    } else {
-      set_next(last, f);
-    }
-    last = f;
-  }
-  set_next(last, first);
-  fresh.head = first;
-  loops_.push_back(fresh);
+  add_loop(pts, signed_area(inner));
   ++stats_.templates;
   return true;
 }
