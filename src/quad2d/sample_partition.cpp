@@ -11,6 +11,7 @@
 // the spacing close to the requested size.
 #include "mesh/planar_geometry.hpp"
 #include "quad2d/interval_assignment.hpp"
+#include "quad2d/paving.hpp"
 
 #include "structmesh/error.hpp"
 #include "structmesh/quad2d.hpp"
@@ -21,6 +22,7 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <numeric>
 #include <queue>
 #include <string>
 
@@ -31,6 +33,9 @@ namespace {
 // Region boundary vertices that turn by more than this are kept as samples, so the
 // Key's teeth and other sharp features survive resampling.
 constexpr double kCornerTurn = 25.0 * std::numbers::pi / 180.0;
+// A boundary vertex whose sides meet at less than this over a narrow base is the tip
+// of a needle (thinning removes it).
+constexpr double kNeedleAngle = 30.0 * std::numbers::pi / 180.0;
 // Interior angles that make a part four-sided: its four smallest below 150°, every
 // other break at least 100° (the side bends there) and none above 225° (reflex).
 // mapped_mesh() refuses the parts where this was too optimistic; they are paved.
@@ -51,9 +56,10 @@ struct CurvePlan {
   /// resampling would cross something), plus the midpoint of segment
   /// `extra_midpoint` when the count's parity has to stay.
   bool exact = false;
-  /// A region boundary curve whose polyline holds only some of its input vertices
-  /// (thinned_vertices at the size / 2^thin_level); exact then means those.
-  int thin_level = 0;
+  /// Position in the curve's input vertices of each polyline vertex (a region
+  /// boundary thinned by thinned_vertices holds only some of them; exact then means
+  /// those).
+  std::vector<std::size_t> source;
   std::size_t extra_midpoint = std::numeric_limits<std::size_t>::max();
   std::vector<double> lengths;
   std::vector<Index> segments;
@@ -116,32 +122,44 @@ std::vector<Vec2> smoothed_separator(const std::vector<Vec2>& polyline, double s
 // move: measured on the Gulf of Mexico at 1M quads, 59 of 512 parts could not be
 // paved without an inverted quad. Kept vertices are input vertices, so the region
 // is reproduced within half a size; where the thinned boundary would cross
-// something, sample_partition goes back to every input vertex (follow_input).
+// something, sample_partition keeps every input vertex along that stretch
+// (follow_input).
 // Visvalingam-Whyatt simplification (1993), measured at the element size: drops the
 // vertex whose triangle with its two neighbours is least significant while that
 // triangle is smaller than (size/4)^2 or thinner than size/8 (its height over its
 // longest side): a heap with lazy deletion, O(n log n). Unlike a distance tolerance
 // it also removes long needle-like spits and inlets, which no quad of that size can
 // follow, while keeping broad features.
-std::vector<Index> visvalingam(const Partition& partition, const std::vector<Index>& vertices, double size) {
-  const std::size_t n = vertices.size();
-  if (n < 4) return vertices;
-  const auto at = [&](std::size_t i) -> const Vec2& { return partition.metric_vertices[vertices[i]]; };
+std::vector<std::size_t> visvalingam(const Partition& partition, const PartitionCurve& curve, double size,
+                                     const std::vector<std::uint8_t>& protect, bool needles_only) {
+  const std::size_t n = curve.vertices.size();
+  std::vector<std::size_t> all(n);
+  std::iota(all.begin(), all.end(), std::size_t{0});
+  if (n < 4) return all;
+  const auto at = [&](std::size_t i) -> const Vec2& { return partition.metric_vertices[curve.vertices[i]]; };
   std::vector<std::size_t> prev(n), next(n);
   for (std::size_t i = 0; i < n; ++i) prev[i] = i - 1, next[i] = i + 1;
   const double area_limit = 0.0625 * size * size, thin_limit = 0.125 * size;
-  // Significance below 1: the vertex goes.
+  // Significance below 1: the vertex goes. A needle (the tip of a spit or inlet:
+  // its sides meet at less than 30 degrees over a base narrower than size/4) always.
   const auto significance = [&](std::size_t i) {
     const Vec2 u = at(prev[i]) - at(i), v = at(next[i]) - at(i);
-    const double area = 0.5 * std::abs(u.x() * v.y() - u.y() * v.x());
+    const double cross = u.x() * v.y() - u.y() * v.x();
+    const bool needle =
+        std::abs(std::atan2(cross, u.dot(v))) < kNeedleAngle && (at(next[i]) - at(prev[i])).norm() < 0.25 * size;
+    if (needle) return 0.0;
+    if (needles_only) return std::numeric_limits<double>::infinity();
+    const double area = 0.5 * std::abs(cross);
     const double longest = std::max({u.norm(), v.norm(), (at(next[i]) - at(prev[i])).norm()});
     const double height = longest > 0 ? 2 * area / longest : 0.0;
     return std::min(area / area_limit, height / thin_limit);
   };
   std::vector<double> key(n, std::numeric_limits<double>::infinity());
+  // Only finite significances enter the heap (needles_only: only needles).
   using Entry = std::pair<double, std::size_t>;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<>> heap;
-  for (std::size_t i = 1; i + 1 < n; ++i) heap.emplace(key[i] = significance(i), i);
+  for (std::size_t i = 1; i + 1 < n; ++i)
+    if (!protect[i] && std::isfinite(key[i] = significance(i))) heap.emplace(key[i], i);
   std::vector<std::uint8_t> removed(n, 0);
   std::size_t left = n;
   while (!heap.empty() && left > 4) {
@@ -154,25 +172,28 @@ std::vector<Index> visvalingam(const Partition& partition, const std::vector<Ind
     next[prev[i]] = next[i];
     prev[next[i]] = prev[i];
     for (const std::size_t j : {prev[i], next[i]})
-      if (j != 0 && j + 1 != n) heap.emplace(key[j] = significance(j), j);
+      if (j != 0 && j + 1 != n && !protect[j] && std::isfinite(key[j] = significance(j))) heap.emplace(key[j], j);
   }
-  std::vector<Index> kept;
+  std::vector<std::size_t> kept;
   for (std::size_t i = 0; i < n; ++i)
-    if (!removed[i]) kept.push_back(vertices[i]);
+    if (!removed[i]) kept.push_back(i);
   return kept;
 }
 
-std::vector<Index> thinned_vertices(const Partition& partition, const PartitionCurve& curve, double size) {
-  const std::vector<Index> all = visvalingam(partition, curve.vertices, size);
-  const auto at = [&](std::size_t i) -> const Vec2& { return partition.metric_vertices[all[i]]; };
+// The positions (into curve.vertices) kept by thinning; `protect` marks positions
+// that must stay (stretches where the thinned curve crossed something).
+std::vector<std::size_t> thinned_vertices(const Partition& partition, const PartitionCurve& curve, double size,
+                                          const std::vector<std::uint8_t>& protect) {
+  const std::vector<std::size_t> all = visvalingam(partition, curve, size, protect, false);
+  const auto at = [&](std::size_t i) -> const Vec2& { return partition.metric_vertices[curve.vertices[all[i]]]; };
   const std::size_t last = all.size() - 1;
   const double reach = 0.5 * size;
-  std::vector<Index> kept{all.front()};
+  std::vector<std::size_t> kept{all.front()};
   std::size_t previous = 0;
   std::vector<std::uint8_t> forced(all.size(), 0);
   for (std::size_t i = 1; i < last; ++i) {
-    forced[i] = turning_angle(at(i - 1), at(i), at(i + 1)) > kCornerTurn && (at(i) - at(i - 1)).norm() >= reach &&
-                (at(i + 1) - at(i)).norm() >= reach;
+    forced[i] = protect[all[i]] || (turning_angle(at(i - 1), at(i), at(i + 1)) > kCornerTurn &&
+                                    (at(i) - at(i - 1)).norm() >= reach && (at(i + 1) - at(i)).norm() >= reach);
     if (!forced[i] && (at(i) - at(previous)).norm() < reach) continue;
     kept.push_back(all[i]);
     previous = i;
@@ -182,17 +203,16 @@ std::vector<Index> thinned_vertices(const Partition& partition, const PartitionC
   if (kept.size() > 1 && previous != 0 && !forced[previous] && (at(last) - at(previous)).norm() < 0.5 * reach)
     kept.pop_back();
   kept.push_back(all.back());
-  const bool closed = all.front() == all.back();
-  if (closed && kept.size() < 5) return curve.vertices;  // an island about the size of an element keeps its shape
+  const bool closed = curve.vertices.front() == curve.vertices.back();
+  if (closed && kept.size() < 5) {  // an island about the size of an element keeps its shape
+    kept.resize(curve.vertices.size());
+    std::iota(kept.begin(), kept.end(), std::size_t{0});
+  }
   return kept;
 }
 
-// thin_level: 0 thins at the element size; each level halves the scale; at
-// kFullDetail every input vertex is kept.
-constexpr int kFullDetail = 4;
-
 CurvePlan plan_curve(const Partition& partition, const PartitionCurve& curve, double size, bool smooth,
-                     int thin_level = 0) {
+                     const std::vector<std::uint8_t>* protect = nullptr) {
   CurvePlan plan;
   const bool boundary = curve.kind == PartitionCurve::Kind::Boundary;
   // Only a boundary finer than the elements is thinned (on average more than two
@@ -201,10 +221,18 @@ CurvePlan plan_curve(const Partition& partition, const PartitionCurve& curve, do
   for (std::size_t i = 1; i < curve.vertices.size(); ++i)
     length += (partition.metric_vertices[curve.vertices[i]] - partition.metric_vertices[curve.vertices[i - 1]]).norm();
   const bool fine = length < 0.5 * size * static_cast<double>(curve.vertices.size() - 1);
-  const std::vector<Index> vertices = boundary && fine && thin_level < kFullDetail
-                                          ? thinned_vertices(partition, curve, std::ldexp(size, -thin_level))
-                                          : curve.vertices;
-  plan.thin_level = vertices.size() != curve.vertices.size() ? thin_level : kFullDetail;
+  const std::vector<std::uint8_t> none(boundary ? curve.vertices.size() : 0, 0);
+  if (boundary && fine) {
+    plan.source = thinned_vertices(partition, curve, size, protect ? *protect : none);
+  } else if (boundary) {
+    // A boundary as coarse as the elements keeps its vertices but its needles.
+    plan.source = visvalingam(partition, curve, size, protect ? *protect : none, true);
+  } else {
+    plan.source.resize(curve.vertices.size());
+    std::iota(plan.source.begin(), plan.source.end(), std::size_t{0});
+  }
+  std::vector<Index> vertices;
+  for (const std::size_t i : plan.source) vertices.push_back(curve.vertices[i]);
   for (const Index v : vertices) plan.polyline.push_back(partition.metric_vertices[v]);
   const std::size_t last = plan.polyline.size() - 1;
   plan.closed = curve.vertices.front() == curve.vertices.back();
@@ -336,9 +364,9 @@ bool segments_meet(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
          !(o1 == 0 && o2 == 0);  // collinear overlaps of a degenerate pair are left to the meshers
 }
 
-// Curves whose sampled polylines meet another curve's, or themselves, away from
-// shared ends: a uniform grid of cell = the longest segment, each pair tested once.
-std::vector<std::size_t> curves_with_crossings(const std::vector<CurvePlan>& plans) {
+// The sample segments (curve, index) that meet another curve's, or their own curve's,
+// away from shared ends: a uniform grid of cell = the longest segment.
+std::vector<std::pair<std::size_t, std::size_t>> crossing_segments(const std::vector<CurvePlan>& plans) {
   struct Segment {
     Vec2 a, b;
     std::size_t curve, index;
@@ -368,18 +396,19 @@ std::vector<std::size_t> curves_with_crossings(const std::vector<CurvePlan>& pla
     for (std::int64_t x = lo.first; x <= hi.first; ++x)
       for (std::int64_t y = lo.second; y <= hi.second; ++y) grid[{x, y}].push_back(s);
   }
-  std::vector<std::uint8_t> bad(plans.size(), 0);
+  std::vector<std::pair<std::size_t, std::size_t>> result;
   for (const auto& [cell_key, members] : grid)
     for (std::size_t i = 0; i < members.size(); ++i)
       for (std::size_t j = i + 1; j < members.size(); ++j) {
         const Segment& s = segments[members[i]];
         const Segment& t = segments[members[j]];
         if (s.curve == t.curve && (s.index + 1 == t.index || t.index + 1 == s.index)) continue;
-        if (segments_meet(s.a, s.b, t.a, t.b)) bad[s.curve] = bad[t.curve] = 1;
+        if (!segments_meet(s.a, s.b, t.a, t.b)) continue;
+        result.emplace_back(s.curve, s.index);
+        result.emplace_back(t.curve, t.index);
       }
-  std::vector<std::size_t> result;
-  for (std::size_t c = 0; c < plans.size(); ++c)
-    if (bad[c]) result.push_back(c);
+  std::sort(result.begin(), result.end());
+  result.erase(std::unique(result.begin(), result.end()), result.end());
   return result;
 }
 
@@ -652,56 +681,88 @@ SampledPartition sample_partition(const Partition& partition, double size, bool 
   // its cell edges (its counts stay); a region boundary piece that does (its chords
   // cut across a strait or an island smaller than the size) takes its input
   // vertices as samples. Until nothing crosses and every hole is inside its part.
-  const auto follow_input = [&](std::size_t c) {
+  // Input positions of each region boundary curve that its thinned samples must keep.
+  std::vector<std::vector<std::uint8_t>> protect(curves);
+  // follow_input(c, segments): the sample segments of curve c that cross something
+  // (empty: the whole curve).
+  const auto follow_input = [&](std::size_t c, const std::vector<std::size_t>& segments) {
     if (plans[c].smoothed) {
-      const std::vector<Index> segments = plans[c].segments;
+      const std::vector<Index> counts = plans[c].segments;
       plans[c] = plan_curve(partition, partition.curves[c], size, false);
-      plans[c].segments = segments;
+      plans[c].segments = counts;
       return true;
     }
-    if (partition.curves[c].kind == PartitionCurve::Kind::Boundary &&
-        (!plans[c].exact || plans[c].thin_level < kFullDetail)) {
-      // First the thinned polyline's own vertices, then ones thinned at half the
-      // scale, and so on down to every input vertex.
-      const Index before = total_segments(plans[c]);
-      if (plans[c].exact) plans[c] = plan_curve(partition, partition.curves[c], size, false, plans[c].thin_level + 1);
+    if (partition.curves[c].kind != PartitionCurve::Kind::Boundary) return false;
+    const Index before = total_segments(plans[c]);
+    if (!plans[c].exact) {  // first the (thinned) polyline's own vertices
       make_exact(plans[c], before);
       return true;
     }
-    return false;
+    // Then every input vertex along each stretch that still crosses: from the
+    // polyline vertex before the crossing segment to the one after it.
+    const std::vector<std::size_t>& source = plans[c].source;
+    std::vector<std::uint8_t>& mask = protect[c];
+    mask.resize(partition.curves[c].vertices.size(), 0);
+    bool added = false;
+    const auto keep = [&](std::size_t from, std::size_t to) {
+      for (std::size_t i = source[from]; i <= source[to]; ++i) {
+        added = added || !mask[i];
+        mask[i] = 1;
+      }
+    };
+    if (segments.empty()) keep(0, source.size() - 1);
+    for (std::size_t k : segments) {
+      if (plans[c].extra_midpoint != std::numeric_limits<std::size_t>::max() && k > plans[c].extra_midpoint) --k;
+      keep(k > 0 ? k - 1 : 0, std::min(k + 2, source.size() - 1));
+    }
+    if (!added) return false;
+    plans[c] = plan_curve(partition, partition.curves[c], size, false, &mask);
+    make_exact(plans[c], before);
+    return true;
   };
-  for (int round = 0; round < 16; ++round) {
-    const std::vector<std::size_t> crossing = curves_with_crossings(plans);
+  for (int round = 0; round < 32; ++round) {
     bool changed = false;
-    for (const std::size_t c : crossing) {
-      changed = follow_input(c) || changed;
+    const auto crossing = crossing_segments(plans);  // sorted by curve
+    for (std::size_t i = 0; i < crossing.size();) {
+      const std::size_t c = crossing[i].first;
+      std::vector<std::size_t> segments;
+      for (; i < crossing.size() && crossing[i].first == c; ++i) segments.push_back(crossing[i].second);
+      changed = follow_input(c, segments) || changed;
     }
     // A hole whose samples fall outside its part's sampled outer loop (the coast's
-    // chords passed on the inland side of an island): the outer loop's boundary
-    // pieces take their input vertices, its smoothed separators their cell edges.
+    // chords passed on the inland side of an island): the outer loop's sample segment
+    // nearest to the hole follows its input there (a smoothed separator goes back to
+    // its cell edges); a curve where that changes nothing follows its input all along.
     for (std::size_t p = 0; p < parts && !changed; ++p) {
       const auto& loops = partition.part_loops[p];
       if (loops.size() < 2) continue;
-      const auto loop_points = [&](const std::vector<std::int64_t>& refs) {
-        std::vector<Vec2> points;
-        for (const std::int64_t ref : refs) {
-          const bool forward = ref >= 0;
-          std::vector<Vec2> curve_points =
-              sample_positions(plans[forward ? static_cast<std::size_t>(ref) : static_cast<std::size_t>(-ref - 1)])
-                  .points;
-          if (!forward) std::reverse(curve_points.begin(), curve_points.end());
-          points.insert(points.end(), curve_points.begin(), curve_points.end() - 1);
-        }
-        return points;
+      const auto curve_of = [](std::int64_t ref) {
+        return ref >= 0 ? static_cast<std::size_t>(ref) : static_cast<std::size_t>(-ref - 1);
       };
-      const std::vector<Vec2> outer = loop_points(loops[0]);
-      bool escaped = false;
-      for (std::size_t l = 1; l < loops.size() && !escaped; ++l)
-        escaped = !detail::point_in_ring(outer, loop_points(loops[l]).front());
-      if (!escaped) continue;
+      std::vector<std::vector<Vec2>> outer_curves;
+      std::vector<Vec2> outer;
       for (const std::int64_t ref : loops[0]) {
-        const std::size_t c = ref >= 0 ? static_cast<std::size_t>(ref) : static_cast<std::size_t>(-ref - 1);
-        changed = follow_input(c) || changed;
+        outer_curves.push_back(sample_positions(plans[curve_of(ref)]).points);
+        std::vector<Vec2> points = outer_curves.back();
+        if (ref < 0) std::reverse(points.begin(), points.end());
+        outer.insert(outer.end(), points.begin(), points.end() - 1);
+      }
+      std::map<std::size_t, std::vector<std::size_t>> nearest;  // curve -> sample segments
+      for (std::size_t l = 1; l < loops.size(); ++l) {
+        const Vec2 hole = sample_positions(plans[curve_of(loops[l].front())]).points.front();
+        if (detail::point_in_ring(outer, hole)) continue;
+        double best = std::numeric_limits<double>::infinity();
+        std::pair<std::size_t, std::size_t> at{0, 0};
+        for (std::size_t r = 0; r < loops[0].size(); ++r)
+          for (std::size_t i = 0; i + 1 < outer_curves[r].size(); ++i) {
+            const double d = paving::point_segment_distance(hole, outer_curves[r][i], outer_curves[r][i + 1]);
+            if (d < best) best = d, at = {curve_of(loops[0][r]), i};
+          }
+        nearest[at.first].push_back(at.second);
+      }
+      for (const auto& [c, segments] : nearest) {
+        const bool moved = follow_input(c, segments);
+        changed = moved || follow_input(c, {}) || changed;
       }
     }
     if (!changed) break;

@@ -295,5 +295,33 @@ TEST(SamplePartition, CoastFinerThanTheElementsIsThinnedAndPaves) {
   }
 }
 
+TEST(SamplePartition, NeedleOfACoarseBoundaryIsDropped) {
+  // A boundary as coarse as the elements keeps its vertices, but the tip of a spit
+  // 0.3 long on a base of 0.01 (a 2-degree needle no quad of size 0.1 can follow)
+  // goes; the square's corners and the rest stay input vertices.
+  std::vector<Vec2> ring;
+  for (int i = 0; i < 10; ++i) {
+    ring.emplace_back(0.1 * i, 0.0);
+    if (i == 4) {
+      ring.emplace_back(0.44, 0.0);
+      ring.emplace_back(0.445, -0.3);
+      ring.emplace_back(0.45, 0.0);
+    }
+  }
+  for (int i = 0; i < 10; ++i) ring.emplace_back(1.0, 0.1 * i);
+  for (int i = 0; i < 10; ++i) ring.emplace_back(1.0 - 0.1 * i, 1.0);
+  for (int i = 0; i < 10; ++i) ring.emplace_back(0.0, 1.0 - 0.1 * i);
+  Polygon2 region;
+  region.add_ring(ring);
+  PartitionOptions options;
+  options.parts = 1;
+  const Partition partition = partition_region(region, options);
+  const SampledPartition sampled = sample_partition(partition, 0.1);
+  expect_valid_sampling(sampled, 0.1);
+  for (const Index i : sampled.part_loops[0][0]) EXPECT_GE(sampled.points[i].y(), 0.0) << "a sample on the needle";
+  const auto [boundary, point_of] = part_boundary(sampled, 0);
+  EXPECT_NEAR(std::abs(area(boundary)), 1.0, 1e-9);
+}
+
 }  // namespace
 }  // namespace structmesh
