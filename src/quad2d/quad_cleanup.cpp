@@ -36,6 +36,7 @@ constexpr int kMaxPasses = 30;
 constexpr double kField = 2.0;
 constexpr double kFieldDecay = 0.9;
 constexpr int kFieldSweeps = 30;
+constexpr int kWarmFieldSweeps = 10;
 
 enum class Kind : std::uint8_t { Doublet = 0, Collapse = 1, Swap = 2 };
 
@@ -538,8 +539,15 @@ class Cleaner {
   /// sign. Recomputed once per pass, so a pass stays O(n).
   void update_potential() {
     const auto n = static_cast<Index>(P_.size());
-    potential_.assign(n, 0.0);
-    for (int sweep = 0; sweep < kFieldSweeps; ++sweep)
+    // The charges move little from one pass to the next: later passes start from the
+    // previous potential with 10 sweeps instead of 30 from zero (those were 40% of the
+    // whole pipeline on the Key at 500k quads; now paving takes 9.0 s instead of 13.5,
+    // singular vertices 3,004 vs 3,007, average SJ 0.993 vs 0.995; 6 sweeps lowered
+    // the annulus test's average below 0.9).
+    const bool warm = potential_.size() == n;
+    if (!warm) potential_.assign(n, 0.0);
+    const int sweeps = warm ? kWarmFieldSweeps : kFieldSweeps;
+    for (int sweep = 0; sweep < sweeps; ++sweep)
       for (Index p = 0; p < n; ++p) {
         if (!alive(p)) continue;
         double sum = 0;
