@@ -37,6 +37,10 @@ Action add_quad2d_command(CLI::App& command, const GlobalOptions& global);
 Polygon2 load_region(const std::string& source, std::size_t segments, const std::string& polygon_choice);
 /// The partition metrics as a JSON object.
 nlohmann::json metrics_json(const Partition& partition);
+/// What the coastline filter of quad2d (remove_narrow_water()) changed.
+nlohmann::json coastline_filter_json(const NarrowWaterReport& report);
+/// One line for the user, empty when nothing changed.
+std::string coastline_filter_summary(const NarrowWaterReport& report);
 
 /// Adds --json, --quiet, --progress and --threads to a subcommand (they are also
 /// accepted before the subcommand name).

@@ -122,6 +122,14 @@ Action add_quad2d_command(CLI::App& command, const GlobalOptions& global) {
   command.add_option("--relax-iterations", o.relax.iterations, "Laplacian sweeps near the separators")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  command
+      .add_option("--min-channel", o.min_channel,
+                  "Close water narrower than this many element sizes before meshing (0: keep all)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  command.add_option("--min-island", o.min_island, "Drop islands smaller than this many element areas (0: keep all)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   command.add_flag("!--no-blocks", o.blocks,
                    "Pave every part (the dissertation's mesher) instead of structured blocks where they fit");
   command.add_option("--segments", settings->segments, "Boundary segments of the built-in key or pipe")
@@ -160,6 +168,7 @@ Action add_quad2d_command(CLI::App& command, const GlobalOptions& global) {
     write_outputs(settings->outputs, result.merged.mesh, result.merged.part_of_quad, result.scaled_jacobian, picture);
 
     if (!r.projection.empty()) say(global, "lon/lat input meshed in " + r.projection);
+    if (const std::string filter = coastline_filter_summary(r.coastline_filter); !filter.empty()) say(global, filter);
     double total = 0;
     for (const auto& [name, seconds] : r.stage_seconds)
       if (name == "total") total = seconds;
@@ -177,6 +186,7 @@ Action add_quad2d_command(CLI::App& command, const GlobalOptions& global) {
     nlohmann::json report = report_json(result, *settings);
     Partition for_metrics;
     for_metrics.metrics = r.partition;
+    for_metrics.simplification = r.coastline_filter;
     report["partition"] = metrics_json(for_metrics);
     write_json_report(global, report);
     return r.inverted == 0 ? 0 : 1;

@@ -577,6 +577,8 @@ int run_ranks(const MpiSession& mpi, const Quad2dSettings& settings, const Quad2
     std::snprintf(line, sizeof line, "  inverted %llu, singular vertices %llu, area %.8g (region %.8g)", total_inverted,
                   total_singular, total_area, setup.partition.metrics.region_area);
     say(global, line);
+    if (const std::string filter = coastline_filter_summary(setup.partition.simplification); !filter.empty())
+      say(global, filter);
     for (const std::string& output : settings.outputs) say(global, "wrote " + output);
     for (const std::string& output : settings.merged_outputs) say(global, "wrote " + output);
     nlohmann::json report = {

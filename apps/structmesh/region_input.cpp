@@ -5,6 +5,7 @@
 #include "structmesh/regions.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 namespace structmesh::cli {
 
@@ -66,7 +67,37 @@ nlohmann::json metrics_json(const Partition& partition) {
           {"cvt_stop_reason", m.cvt_stop_reason},
           {"exact_gap", m.exact_gap},
           {"stage_seconds", stages},
-          {"peak_rss_mb", m.peak_rss_mb}};
+          {"peak_rss_mb", m.peak_rss_mb},
+          {"coastline_filter", coastline_filter_json(partition.simplification)}};
+}
+
+nlohmann::json coastline_filter_json(const NarrowWaterReport& r) {
+  return {{"channel_width", r.channel_width},
+          {"min_island_area", r.min_island_area},
+          {"changed", r.changed},
+          {"islands_dropped", r.islands_dropped},
+          {"island_area", r.island_area},
+          {"pinch_chords", r.pinch_chords},
+          {"pinch_vertices", r.pinch_vertices},
+          {"closed_triangles", r.closed_triangles},
+          {"closed_area", r.closed_area},
+          {"pieces_dropped", r.pieces_dropped},
+          {"dropped_area", r.dropped_area},
+          {"tips_removed", r.tips_removed},
+          {"tip_area", r.tip_area},
+          {"area_before", r.area_before},
+          {"area_after", r.area_after}};
+}
+
+std::string coastline_filter_summary(const NarrowWaterReport& r) {
+  if (!r.changed) return {};
+  char line[400];
+  std::snprintf(line, sizeof line,
+                "coastline filter: closed water narrower than %.4g (%.4g of %.4g area units; %zu pieces cut off), "
+                "dropped %zu islands below %.4g, cut back %zu land tips (%.4g)",
+                r.channel_width, r.closed_area + r.dropped_area, r.area_before, r.pieces_dropped, r.islands_dropped,
+                r.min_island_area, r.tips_removed, r.tip_area);
+  return line;
 }
 
 }  // namespace structmesh::cli

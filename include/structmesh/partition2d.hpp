@@ -54,6 +54,11 @@ struct PartitionOptions {
   bool proxy_domain = true;
   std::uint64_t seed = 0;
   bool progress = false;  ///< progress on stderr
+  /// > 0: before partitioning, close water narrower than this (metric units) and drop
+  /// islands below min_island_area (remove_narrow_water()); quad2d sets both from the
+  /// element size, since a uniform mesh cannot hold narrower features.
+  double min_channel_width = 0;
+  double min_island_area = 0;
 };
 
 struct PartitionMetrics {
@@ -96,6 +101,24 @@ struct PartitionCurve {
   std::vector<Index> vertices;   ///< into Partition::vertices; first/last are junctions
 };
 
+/// What remove_narrow_water() changed (areas in the region's units squared).
+struct NarrowWaterReport {
+  double channel_width = 0;    ///< water narrower than this was closed
+  double min_island_area = 0;  ///< islands smaller than this were dropped
+  bool changed = false;
+  std::size_t islands_dropped = 0;
+  double island_area = 0;
+  std::size_t pinch_chords = 0;      ///< triangulation edges spanning a channel narrower than the width
+  std::size_t pinch_vertices = 0;    ///< points where the water met itself, opened
+  std::size_t closed_triangles = 0;  ///< triangles of narrow water closed
+  double closed_area = 0;
+  std::size_t pieces_dropped = 0;  ///< water cut off behind a closed channel
+  double dropped_area = 0;
+  std::size_t tips_removed = 0;  ///< land tips cut back to widen a gap narrower than the width
+  double tip_area = 0;           ///< land given to the water by that
+  double area_before = 0, area_after = 0;
+};
+
 struct Partition {
   /// Vertices of the part boundaries in input coordinates; input vertices are
   /// copied bit-identically, so neighbouring parts share identical vertices.
@@ -111,8 +134,24 @@ struct Partition {
   std::vector<double> part_areas;  ///< metric plane
   std::vector<Vec2> sites;         ///< CVT sites (metric plane), for pictures
   PartitionMetrics metrics;
-  std::string projection;  ///< "" or "LAEA lat0=... lon0=... R=6371008.8"
+  NarrowWaterReport simplification;  ///< what the narrow-water filter changed (options.min_channel_width)
+  std::string projection;            ///< "" or "LAEA lat0=... lon0=... R=6371008.8"
 };
+
+struct NarrowWaterResult {
+  Polygon2 region;  ///< outer ring counter-clockwise first, then the holes (clockwise)
+  /// The rings as indices of the input points: every vertex is an input vertex.
+  std::vector<std::vector<Index>> rings;
+  NarrowWaterReport report;
+};
+
+/// Closes channels, passes and inlets of `region` (a planar, metric region) narrower
+/// than `channel_width`, drops islands of area below `min_island_area`, and keeps the
+/// largest connected piece of the water (src/partition2d/remove_narrow_water.cpp has
+/// the rules). A region with nothing to remove is returned unchanged.
+NarrowWaterResult remove_narrow_water(const Polygon2& region, double channel_width, double min_island_area);
+/// The region whose rings are these indices of `region`'s points.
+Polygon2 select_rings(const Polygon2& region, const std::vector<std::vector<Index>>& rings);
 
 /// Partitions `region` into options.parts parts. InputError for an invalid region
 /// or options (odd p, k < 1, too few cells for k parts).

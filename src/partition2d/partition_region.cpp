@@ -90,8 +90,23 @@ Partition partition_region(const Polygon2& region, const PartitionOptions& optio
 
   // Projection and the normalised frame (design §2.0).
   const Projection projection = choose_projection(region);
-  const Polygon2 metric_region = project_region(region, projection);
+  Polygon2 metric_region = project_region(region, projection);
   partition.projection = projection.describe();
+  // Features narrower than the mesh can hold are filtered in the metric plane; the
+  // kept vertices are input vertices, so the input-coordinate region is their subset.
+  Polygon2 filtered_input;
+  const Polygon2* input_region = &region;
+  if (options.min_channel_width > 0 || options.min_island_area > 0) {
+    if (options.progress)
+      status("partition2d: closing water narrower than " + std::to_string(options.min_channel_width));
+    NarrowWaterResult filtered = remove_narrow_water(metric_region, options.min_channel_width, options.min_island_area);
+    partition.simplification = filtered.report;
+    if (filtered.report.changed) {
+      filtered_input = select_rings(region, filtered.rings);
+      metric_region = std::move(filtered.region);
+      input_region = &filtered_input;
+    }
+  }
   const double region_area = std::abs(area(metric_region));
   // One part is the region itself: a one-site CVT gives it without optimising thousands of cells.
   const bool cvt_baseline = options.method == PartitionMethod::Cvt || k == 1;
@@ -219,7 +234,7 @@ Partition partition_region(const Polygon2& region, const PartitionOptions& optio
   } else {
     maps.metric_to_input = [](const Vec2& p) { return p; };
   }
-  build_part_geometry(tessellation, face_part, k, region, maps, partition);
+  build_part_geometry(tessellation, face_part, k, *input_region, maps, partition);
   timer.stage("part geometry");
 
   const CornerCost corners = corner_cost(graph, node_part);

@@ -81,6 +81,10 @@ Quad2dSetup setup_quad2d(const Polygon2& region, const Quad2dOptions& options, s
   if (!(size > 0)) throw InputError("quad2d: could not derive an element size (empty region?)");
   const double expected_quads = planar_area / (size * size);
   if (expected_quads > 4.0e9) throw InputError("quad2d: --size gives more than 4e9 quads; choose a larger size");
+  if (options.min_channel < 0 || options.min_island < 0)
+    throw InputError("quad2d: --min-channel and --min-island must not be negative");
+  partition_options.min_channel_width = options.min_channel * size;
+  partition_options.min_island_area = options.min_island * size * size;
   if (partition_options.parts == 0)
     partition_options.parts = default_part_count(static_cast<std::size_t>(expected_quads), processes);
   if (options.auto_cells) {
@@ -223,6 +227,7 @@ Quad2dResult mesh_region_quads(const Polygon2& region, const Quad2dOptions& opti
   report.region_area = partition.metrics.region_area;
   report.mesh_area = quad_mesh_area(result.merged.mesh);
   report.projection = partition.projection;
+  report.coastline_filter = partition.simplification;
   report.partition = partition.metrics;
   stage("quality");
   report.stage_seconds.emplace_back("total", seconds_since(start));

@@ -17,6 +17,7 @@
 #include "structmesh/quad2d.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <deque>
 #include <limits>
@@ -35,6 +36,9 @@ namespace {
 constexpr double kCornerTurn = 25.0 * std::numbers::pi / 180.0;
 // A boundary vertex whose sides meet at less than this over a narrow base is the tip
 // of a needle (thinning removes it).
+// Region boundary samples closer than this many sizes (not at a shared end) count as
+// crossing (crossing_segments).
+constexpr double kSampleClearance = 0.25;
 constexpr double kNeedleAngle = 30.0 * std::numbers::pi / 180.0;
 // Interior angles that make a part four-sided: its four smallest below 150°, every
 // other break at least 100° (the side bends there) and none above 225° (reflex).
@@ -364,25 +368,79 @@ bool segments_meet(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
          !(o1 == 0 && o2 == 0);  // collinear overlaps of a degenerate pair are left to the meshers
 }
 
+Vec2 closest_on_segment(const Vec2& p, const Vec2& a, const Vec2& b) {
+  const Vec2 ab = b - a;
+  const double l2 = ab.squaredNorm();
+  return a + (l2 > 0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0) * ab;
+}
+
+// Closest points (on ab, on cd) of two segments that do not meet.
+std::pair<Vec2, Vec2> closest_points(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+  const std::array<std::pair<Vec2, Vec2>, 4> candidates{{{a, closest_on_segment(a, c, d)},
+                                                         {b, closest_on_segment(b, c, d)},
+                                                         {closest_on_segment(c, a, b), c},
+                                                         {closest_on_segment(d, a, b), d}}};
+  return *std::min_element(candidates.begin(), candidates.end(), [](const auto& x, const auto& y) {
+    return (x.first - x.second).squaredNorm() < (y.first - y.second).squaredNorm();
+  });
+}
+
 // The sample segments (curve, index) that meet another curve's, or their own curve's,
-// away from shared ends: a uniform grid of cell = the longest segment.
-std::vector<std::pair<std::size_t, std::size_t>> crossing_segments(const std::vector<CurvePlan>& plans) {
+// away from shared ends, or (both on the region boundary) pass within `clearance` of
+// each other across water while more than three times that distance apart along the
+// boundary:
+// thinning can bring the two banks of a channel together without a crossing, and no
+// quad fits between samples that close. A uniform grid of cell = the longest segment.
+std::vector<std::pair<std::size_t, std::size_t>> crossing_segments(const Partition& partition,
+                                                                   const std::vector<CurvePlan>& plans,
+                                                                   double clearance) {
   struct Segment {
     Vec2 a, b;
     std::size_t curve, index;
+    double arc_a, arc_b;  // arc length of a and b along the curve's samples
   };
   std::vector<Segment> segments;
+  std::vector<double> curve_length(plans.size());
   double longest = 0;
   BoundingBox2 box;
   for (std::size_t c = 0; c < plans.size(); ++c) {
     const std::vector<Vec2> points = sample_positions(plans[c]).points;
+    double arc = 0;
     for (std::size_t i = 0; i + 1 < points.size(); ++i) {
-      segments.push_back({points[i], points[i + 1], c, i});
+      const double length = (points[i + 1] - points[i]).norm();
+      segments.push_back({points[i], points[i + 1], c, i, arc, arc + length});
+      arc += length;
       longest = std::max(longest, (points[i + 1] - points[i]).norm());
       box.extend(points[i]);
       box.extend(points[i + 1]);
     }
+    curve_length[c] = arc;
   }
+  // +1 where the water is on the left of a region boundary curve (its part's loop runs
+  // it forwards), -1 where it is on the right.
+  std::vector<double> water_left(plans.size(), 0.0);
+  for (const auto& loops : partition.part_loops)
+    for (const auto& loop : loops)
+      for (const std::int64_t ref : loop) water_left[ref >= 0 ? ref : -ref - 1] = ref >= 0 ? 1.0 : -1.0;
+  // Distance along the boundary between two segments: along their curve, or through
+  // an end point the two curves share (a junction); infinite otherwise.
+  const auto along = [&](const Segment& s, const Segment& t) {
+    const double Ls = curve_length[s.curve], Lt = curve_length[t.curve];
+    if (s.curve == t.curve) {
+      const Segment& first = s.index < t.index ? s : t;
+      const Segment& second = s.index < t.index ? t : s;
+      const double inside = second.arc_a - first.arc_b;
+      return plans[s.curve].closed ? std::min(inside, Ls - (second.arc_b - first.arc_a)) : inside;
+    }
+    const auto& ps = plans[s.curve].polyline;
+    const auto& pt = plans[t.curve].polyline;
+    double best = std::numeric_limits<double>::infinity();
+    if (ps.front() == pt.front()) best = std::min(best, s.arc_a + t.arc_a);
+    if (ps.front() == pt.back()) best = std::min(best, s.arc_a + Lt - t.arc_b);
+    if (ps.back() == pt.front()) best = std::min(best, Ls - s.arc_b + t.arc_a);
+    if (ps.back() == pt.back()) best = std::min(best, Ls - s.arc_b + Lt - t.arc_b);
+    return best;
+  };
   if (segments.empty() || !(longest > 0)) return {};
   const double cell = longest;
   const auto key = [&](double x, double y) {
@@ -391,8 +449,10 @@ std::vector<std::pair<std::size_t, std::size_t>> crossing_segments(const std::ve
   };
   std::map<std::pair<std::int64_t, std::int64_t>, std::vector<std::size_t>> grid;
   for (std::size_t s = 0; s < segments.size(); ++s) {
-    const auto lo = key(std::min(segments[s].a.x(), segments[s].b.x()), std::min(segments[s].a.y(), segments[s].b.y()));
-    const auto hi = key(std::max(segments[s].a.x(), segments[s].b.x()), std::max(segments[s].a.y(), segments[s].b.y()));
+    const auto lo = key(std::min(segments[s].a.x(), segments[s].b.x()) - clearance,
+                        std::min(segments[s].a.y(), segments[s].b.y()) - clearance);
+    const auto hi = key(std::max(segments[s].a.x(), segments[s].b.x()) + clearance,
+                        std::max(segments[s].a.y(), segments[s].b.y()) + clearance);
     for (std::int64_t x = lo.first; x <= hi.first; ++x)
       for (std::int64_t y = lo.second; y <= hi.second; ++y) grid[{x, y}].push_back(s);
   }
@@ -403,13 +463,55 @@ std::vector<std::pair<std::size_t, std::size_t>> crossing_segments(const std::ve
         const Segment& s = segments[members[i]];
         const Segment& t = segments[members[j]];
         if (s.curve == t.curve && (s.index + 1 == t.index || t.index + 1 == s.index)) continue;
-        if (!segments_meet(s.a, s.b, t.a, t.b)) continue;
+        if (!segments_meet(s.a, s.b, t.a, t.b)) {
+          const bool coast = partition.curves[s.curve].kind == PartitionCurve::Kind::Boundary &&
+                             partition.curves[t.curve].kind == PartitionCurve::Kind::Boundary;
+          if (!coast || s.a == t.a || s.a == t.b || s.b == t.a || s.b == t.b) continue;
+          const auto [p, q] = closest_points(s.a, s.b, t.a, t.b);
+          const double distance = (p - q).norm();
+          if (!(distance < clearance) || !(along(s, t) > 3 * distance)) continue;
+          // Thin land (an island, a spit) between them is no problem for a mesher.
+          if (!(water_left[s.curve] * paving::cross(s.b - s.a, q - p) > 0 &&
+                water_left[t.curve] * paving::cross(t.b - t.a, p - q) > 0))
+            continue;
+        }
         result.emplace_back(s.curve, s.index);
         result.emplace_back(t.curve, t.index);
       }
   std::sort(result.begin(), result.end());
   result.erase(std::unique(result.begin(), result.end()), result.end());
   return result;
+}
+
+// A separator whose samples cut a corner of its cell-edge polyline across something
+// takes every polyline vertex as a break, with the same total count spread over the
+// pieces by length (largest remainders; at least one each, parity kept when more
+// are needed).
+bool break_at_every_vertex(CurvePlan& plan, const std::vector<Index>& vertices) {
+  const std::size_t pieces = plan.polyline.size() - 1;
+  if (plan.breaks.size() == pieces + 1) return false;
+  Index total = total_segments(plan);
+  if (total < pieces) total = static_cast<Index>(pieces + (pieces - total) % 2);
+  plan.breaks.resize(pieces + 1);
+  std::iota(plan.breaks.begin(), plan.breaks.end(), std::size_t{0});
+  plan.break_vertices = vertices;
+  plan.lengths.clear();
+  double length = 0;
+  for (std::size_t i = 0; i < pieces; ++i) {
+    plan.lengths.push_back((plan.polyline[i + 1] - plan.polyline[i]).norm());
+    length += plan.lengths.back();
+  }
+  plan.segments.assign(pieces, 1);
+  std::vector<double> share(pieces);
+  for (std::size_t i = 0; i < pieces; ++i)
+    share[i] = length > 0 ? plan.lengths[i] / length * static_cast<double>(total) : 1.0;
+  for (Index left = total - static_cast<Index>(pieces); left > 0; --left) {
+    std::size_t best = 0;
+    for (std::size_t i = 1; i < pieces; ++i)
+      if (share[i] - plan.segments[i] > share[best] - plan.segments[best]) best = i;
+    ++plan.segments[best];
+  }
+  return true;
 }
 
 // Rounding leaves some parts odd: a T-join on a BFS tree of the graph parts +
@@ -692,7 +794,8 @@ SampledPartition sample_partition(const Partition& partition, double size, bool 
       plans[c].segments = counts;
       return true;
     }
-    if (partition.curves[c].kind != PartitionCurve::Kind::Boundary) return false;
+    if (partition.curves[c].kind != PartitionCurve::Kind::Boundary)
+      return break_at_every_vertex(plans[c], partition.curves[c].vertices);
     const Index before = total_segments(plans[c]);
     if (!plans[c].exact) {  // first the (thinned) polyline's own vertices
       make_exact(plans[c], before);
@@ -722,12 +825,22 @@ SampledPartition sample_partition(const Partition& partition, double size, bool 
   };
   for (int round = 0; round < 32; ++round) {
     bool changed = false;
-    const auto crossing = crossing_segments(plans);  // sorted by curve
+    const auto crossing = crossing_segments(partition, plans, kSampleClearance * size);  // sorted by curve
     for (std::size_t i = 0; i < crossing.size();) {
       const std::size_t c = crossing[i].first;
       std::vector<std::size_t> segments;
       for (; i < crossing.size() && crossing[i].first == c; ++i) segments.push_back(crossing[i].second);
       changed = follow_input(c, segments) || changed;
+    }
+    // An island thinned until its samples turn the other way round (a thin island
+    // sampled by three points) follows its input.
+    for (std::size_t c = 0; c < curves; ++c) {
+      if (!plans[c].closed || partition.curves[c].kind != PartitionCurve::Kind::Boundary) continue;
+      std::vector<Vec2> input;
+      for (const Index v : partition.curves[c].vertices) input.push_back(partition.metric_vertices[v]);
+      const double sampled = signed_area(sample_positions(plans[c]).points), wanted = signed_area(input);
+      if (!(sampled * wanted > 0) || std::abs(sampled) < 0.25 * std::abs(wanted))
+        changed = follow_input(c, {}) || changed;
     }
     // A hole whose samples fall outside its part's sampled outer loop (the coast's
     // chords passed on the inland side of an island): the outer loop's sample segment
