@@ -34,11 +34,11 @@ namespace {
 // Region boundary vertices that turn by more than this are kept as samples, so the
 // Key's teeth and other sharp features survive resampling.
 constexpr double kCornerTurn = 25.0 * std::numbers::pi / 180.0;
+// Region boundary samples closer than this many sizes across water (not at a shared
+// end) count as crossing (crossing_segments).
+constexpr double kSampleClearance = 0.25;
 // A boundary vertex whose sides meet at less than this over a narrow base is the tip
 // of a needle (thinning removes it).
-// Region boundary samples closer than this many sizes (not at a shared end) count as
-// crossing (crossing_segments).
-constexpr double kSampleClearance = 0.25;
 constexpr double kNeedleAngle = 30.0 * std::numbers::pi / 180.0;
 // Interior angles that make a part four-sided: its four smallest below 150°, every
 // other break at least 100° (the side bends there) and none above 225° (reflex).
@@ -388,9 +388,9 @@ std::pair<Vec2, Vec2> closest_points(const Vec2& a, const Vec2& b, const Vec2& c
 // The sample segments (curve, index) that meet another curve's, or their own curve's,
 // away from shared ends, or (both on the region boundary) pass within `clearance` of
 // each other across water while more than three times that distance apart along the
-// boundary:
-// thinning can bring the two banks of a channel together without a crossing, and no
-// quad fits between samples that close. A uniform grid of cell = the longest segment.
+// boundary: thinning can bring the two banks of a channel together without a
+// crossing, and no quad fits between samples that close. A uniform grid of cell = the
+// longest segment.
 std::vector<std::pair<std::size_t, std::size_t>> crossing_segments(const Partition& partition,
                                                                    const std::vector<CurvePlan>& plans,
                                                                    double clearance) {
@@ -410,7 +410,7 @@ std::vector<std::pair<std::size_t, std::size_t>> crossing_segments(const Partiti
       const double length = (points[i + 1] - points[i]).norm();
       segments.push_back({points[i], points[i + 1], c, i, arc, arc + length});
       arc += length;
-      longest = std::max(longest, (points[i + 1] - points[i]).norm());
+      longest = std::max(longest, length);
       box.extend(points[i]);
       box.extend(points[i + 1]);
     }
