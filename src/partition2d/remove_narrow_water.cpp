@@ -307,8 +307,9 @@ FilterPass close_narrow_water(const Polygon2& polygon, double channel_width, Nar
 
 bool point_in_triangle(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c) {
   const double d1 = triangle_area(a, b, p), d2 = triangle_area(b, c, p), d3 = triangle_area(c, a, p);
-  const bool negative = d1 < 0 || d2 < 0 || d3<0, positive = d1> 0 || d2 > 0 || d3 > 0;
-  return !(negative && positive);
+  const bool some_negative = std::min({d1, d2, d3}) < 0;
+  const bool some_positive = std::max({d1, d2, d3}) > 0;
+  return !(some_negative && some_positive);
 }
 
 // Removes the tip vertices at gaps: an endpoint of a gap chord where its ring turns
