@@ -442,17 +442,28 @@ std::vector<std::pair<std::size_t, std::size_t>> crossing_segments(const Partiti
     return best;
   };
   if (segments.empty() || !(longest > 0)) return {};
-  const double cell = longest;
+  // Cells of about the median segment length (at least the clearance): a cell as long
+  // as the longest segment would put thousands of short coast segments in one cell and
+  // test them pairwise. A segment is registered in every cell its box (grown by the
+  // clearance) covers, at most 64 x 64 of them; a pair is tested in the lowest cell both
+  // cover, so segments whose grown boxes are apart are never tested (a zero-length
+  // segment on the line through a distant one no longer counts as meeting it).
+  std::vector<double> lengths(segments.size());
+  for (std::size_t i = 0; i < segments.size(); ++i) lengths[i] = segments[i].arc_b - segments[i].arc_a;
+  std::nth_element(lengths.begin(), lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2), lengths.end());
+  const double cell = std::max({lengths[lengths.size() / 2], clearance, longest / 64});
   const auto key = [&](double x, double y) {
     return std::pair<std::int64_t, std::int64_t>{static_cast<std::int64_t>(std::floor((x - box.min.x()) / cell)),
                                                  static_cast<std::int64_t>(std::floor((y - box.min.y()) / cell))};
   };
+  std::vector<std::array<std::int64_t, 4>> cells_of(segments.size());  // x0, y0, x1, y1
   std::map<std::pair<std::int64_t, std::int64_t>, std::vector<std::size_t>> grid;
   for (std::size_t s = 0; s < segments.size(); ++s) {
     const auto lo = key(std::min(segments[s].a.x(), segments[s].b.x()) - clearance,
                         std::min(segments[s].a.y(), segments[s].b.y()) - clearance);
     const auto hi = key(std::max(segments[s].a.x(), segments[s].b.x()) + clearance,
                         std::max(segments[s].a.y(), segments[s].b.y()) + clearance);
+    cells_of[s] = {lo.first, lo.second, hi.first, hi.second};
     for (std::int64_t x = lo.first; x <= hi.first; ++x)
       for (std::int64_t y = lo.second; y <= hi.second; ++y) grid[{x, y}].push_back(s);
   }
@@ -460,6 +471,9 @@ std::vector<std::pair<std::size_t, std::size_t>> crossing_segments(const Partiti
   for (const auto& [cell_key, members] : grid)
     for (std::size_t i = 0; i < members.size(); ++i)
       for (std::size_t j = i + 1; j < members.size(); ++j) {
+        const auto& ci = cells_of[members[i]];
+        const auto& cj = cells_of[members[j]];
+        if (cell_key.first != std::max(ci[0], cj[0]) || cell_key.second != std::max(ci[1], cj[1])) continue;
         const Segment& s = segments[members[i]];
         const Segment& t = segments[members[j]];
         if (s.curve == t.curve && (s.index + 1 == t.index || t.index + 1 == s.index)) continue;

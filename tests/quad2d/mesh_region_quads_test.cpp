@@ -109,7 +109,7 @@ TEST_P(RealCoastline, MeshesWithoutAnInvertedQuad) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Regions, RealCoastline,
-                         ::testing::Values(CoastCase{"gulf_of_mexico.geojson", 100000, 16},
+                         ::testing::Values(CoastCase{"gulf_of_mexico.geojson", 100000, 8},
                                            CoastCase{"gulf_of_mexico_ne10m.geojson", 100000, 16},
                                            CoastCase{"matagorda_bay.geojson", 30000, 8},
                                            CoastCase{"west_bay_galveston.geojson", 20000, 8}),
