@@ -179,8 +179,10 @@ class Paver {
   double interior_angle(Index node) const;
   /// Would point p, leaving the front with `added` more quads, be an interior point of
   /// valence below 3 (a doublet that no smoothing can fix)?
+  /// Points added after the last front node (the fallback's, during repairs) are on no front.
   bool makes_doublet(Index p, int added) const {
-    return p >= mesh_.fixed_count && point_fronts_[p] == 1 && mesh_.quad_count(p) + added < 3;
+    return p >= mesh_.fixed_count && p < point_fronts_.size() && point_fronts_[p] == 1 &&
+           mesh_.quad_count(p) + added < 3;
   }
   bool edge_live(Index node, Index next) const { return node_alive_[node] && node_next_[node] == next; }
   /// Does the segment ab cross a front edge not incident to points pa / pb
