@@ -78,6 +78,7 @@ nlohmann::json report_json(const Quad2dResult& result, const Quad2dSettings& set
             {"templates", r.paving.templates},
             {"fallback_loops", r.paving.fallback_loops},
             {"repairs", r.paving.repairs},
+            {"untangled", r.paving.untangled},
             {"mapped_parts", r.paving.mapped},
             {"polar_parts", r.paving.polar},
             {"retried_parts", r.paving.retries},

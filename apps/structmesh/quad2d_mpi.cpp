@@ -295,7 +295,7 @@ int run_ranks(const MpiSession& mpi, const Quad2dSettings& settings, const Quad2
 
   // 2. Parts to ranks by predicted work; pave this rank's parts.
   std::vector<double> work(parts);
-  for (std::size_t p = 0; p < parts; ++p) work[p] = setup.partition.part_areas[p] / (setup.size * setup.size);
+  for (std::size_t p = 0; p < parts; ++p) work[p] = predicted_part_work(setup, p);
   const std::vector<std::int32_t> part_rank = assign_parts(work, static_cast<std::size_t>(ranks));
   std::vector<std::size_t> mine;
   for (std::size_t p = 0; p < parts; ++p)

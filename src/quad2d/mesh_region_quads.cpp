@@ -15,6 +15,7 @@
 #include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -112,17 +113,22 @@ std::vector<PavedPart> pave_parts(const Quad2dSetup& setup, std::span<const std:
   for (const std::size_t p : parts)
     if (p >= count) throw InputError("pave_parts: no part " + std::to_string(p));
   std::vector<std::size_t> order(parts.begin(), parts.end());
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return setup.partition.part_areas[a] > setup.partition.part_areas[b];
-  });
+  std::vector<double> work(count, 0);
+  for (const std::size_t p : order) work[p] = predicted_part_work(setup, p);
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return work[a] > work[b]; });
   PavingOptions paving = options;
   if (paving.size == 0) paving.size = setup.size;
   std::unique_ptr<Progress> progress;
   if (progress_bar) progress = std::make_unique<Progress>("paving parts", order.size());
+  // Every worker takes the next part in order (greedy LPT). A parallel_for over the
+  // order would split it into halves, so the second thread would start in the middle
+  // of the list and the largest parts could end up last on one thread.
+  std::atomic<std::size_t> next{0};
+  const auto workers = static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
   tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, order.size(), 1),
-      [&](const tbb::blocked_range<std::size_t>& range) {
-        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+      std::size_t{0}, std::min(workers, order.size()),
+      [&](std::size_t) {
+        for (std::size_t i = next++; i < order.size(); i = next++) {
           const std::size_t p = order[i];
           const auto part_start = Clock::now();
           const Polygon2 boundary = part_boundary(setup.sampled, p).first;
@@ -168,6 +174,15 @@ std::vector<PavedPart> pave_parts(const Quad2dSetup& setup, std::span<const std:
   return paved;
 }
 
+double predicted_part_work(const Quad2dSetup& setup, std::size_t part) {
+  const SampledPartition& sampled = setup.sampled;
+  if (part >= sampled.part_loops.size()) throw InputError("predicted_part_work: no part " + std::to_string(part));
+  const double quads = setup.partition.part_areas[part] / (setup.size * setup.size);
+  const bool polar = !sampled.part_polar.empty() && !sampled.part_polar[part].corners.empty();
+  const bool mapped = !sampled.part_corners.empty() && sampled.part_corners[part][0] >= 0;
+  return polar || mapped ? kBlockWorkFactor * quads : quads;
+}
+
 Quad2dResult mesh_region_quads(const Polygon2& region, const Quad2dOptions& options) {
   const auto start = Clock::now();
   Quad2dResult result;
@@ -201,6 +216,7 @@ Quad2dResult mesh_region_quads(const Polygon2& region, const Quad2dOptions& opti
     report.paving.templates += part.stats.templates;
     report.paving.fallback_loops += part.stats.fallback_loops;
     report.paving.repairs += part.stats.repairs;
+    report.paving.untangled += part.stats.untangled;
     report.paving.mapped += part.stats.mapped;
     report.paving.polar += part.stats.polar;
     report.paving.retries += part.stats.retries;

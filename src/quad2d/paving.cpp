@@ -10,6 +10,7 @@
 // different target size (up to 8 sizes, 0.7 to 1.25 times it) before an Error is thrown.
 #include "quad2d/paving.hpp"
 #include "quad2d/quad_cleanup.hpp"
+#include "quad2d/untangle_quads.hpp"
 
 #include "structmesh/check.hpp"
 #include "structmesh/error.hpp"
@@ -207,6 +208,45 @@ bool Paver::repair_inverted() {
   return true;
 }
 
+bool Paver::untangle_inverted() {
+  const auto inverted = [&](const std::array<Index, 4>& q) {
+    const auto& P = mesh_.points;
+    return !(scaled_jacobian(P[q[0]], P[q[1]], P[q[2]], P[q[3]]) > 0);
+  };
+  // Wider zones give the points more room but cost more; a zone is every free point
+  // within `rings` quad rings of an inverted quad.
+  for (const int rings : {3, 10}) {
+    std::vector<Index> zone;
+    for (const auto& q : mesh_.quads)
+      if (q[0] != kInvalidIndex && inverted(q)) zone.insert(zone.end(), q.begin(), q.end());
+    if (zone.empty()) return true;
+    std::vector<std::uint8_t> in_zone(mesh_.points.size(), 0);
+    for (const Index v : zone) in_zone[v] = 1;
+    std::size_t begin = 0;
+    for (int ring = 0; ring < rings; ++ring) {
+      const std::size_t end = zone.size();
+      for (std::size_t k = begin; k < end; ++k) {
+        mesh_.for_each_quad(zone[k], [&](Index r) {
+          for (const Index w : mesh_.quads[r])
+            if (!in_zone[w]) in_zone[w] = 1, zone.push_back(w);
+        });
+      }
+      begin = end;
+    }
+    std::vector<Index> free;
+    for (const Index v : zone)
+      if (v >= mesh_.fixed_count) free.push_back(v);
+    std::sort(free.begin(), free.end());
+    if (untangle_quads(mesh_.points, mesh_.quads, free, size_).valid &&
+        std::none_of(mesh_.quads.begin(), mesh_.quads.end(),
+                     [&](const auto& q) { return q[0] != kInvalidIndex && inverted(q); })) {
+      ++stats_.untangled;
+      return true;
+    }
+  }
+  return false;
+}
+
 PavedPart Paver::run() {
   std::deque<Index> queue;
   for (Index l = 0; l < loops_.size(); ++l) queue.push_back(l);
@@ -249,7 +289,7 @@ PavedPart Paver::run() {
   collapse_doublets();
   collapse_diamonds();
   final_smoothing();
-  repair_inverted();
+  if (!untangle_inverted()) repair_inverted();
 
   // Output: the input points, then the new points still in use, in creation order.
   PavedPart part;

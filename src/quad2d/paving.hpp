@@ -257,6 +257,9 @@ class Paver {
   /// Remeshes the neighbourhood of every quad that smoothing left inverted or
   /// degenerate (paving.cpp); false when some are left.
   bool repair_inverted();
+  /// Untangles the zones of inverted quads (their points and a few rings around them)
+  /// with untangle_quads(); true when no quad is left inverted.
+  bool untangle_inverted();
 
   const PavingOptions options_;
   double size_ = 0;

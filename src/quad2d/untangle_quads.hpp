@@ -1,0 +1,29 @@
+// Untangling of a quad mesh zone (private to the quad2d module): moves the free points
+// so that every corner of every quad around them turns positive, by the continuation
+// method of Garanzha, Kaporin, Kudryavtseva, Protais, Ray & Sokolov 2021 ("Foldover-free
+// maps in 50 lines of code", ACM TOG 40(4)).
+#pragma once
+
+#include "structmesh/mesh.hpp"
+
+#include <array>
+#include <span>
+#include <vector>
+
+namespace structmesh::paving {
+
+struct UntangleResult {
+  bool valid = false;       ///< every corner of every quad touching a free point is positive
+  int outer_iterations = 0;  ///< continuation steps (each one L-BFGS minimisation)
+  double min_det_before = 0, min_det_after = 0;  ///< smallest corner cross product / size²
+};
+
+/// Moves the points listed in `free` (and no other) to make the quads that touch them
+/// valid. Quads whose first index is kInvalidIndex are skipped. `size` is the target
+/// edge length: each quad corner is compared with a right angle of legs `size`.
+/// Deterministic. When no valid placement is found the points are left where the best
+/// attempt put them (the caller checks `valid` and falls back to remeshing).
+UntangleResult untangle_quads(std::vector<Vec2>& points, std::span<const std::array<Index, 4>> quads,
+                              std::span<const Index> free, double size);
+
+}  // namespace structmesh::paving
