@@ -165,6 +165,9 @@ IntervalSolution solve_interval_assignment(const IntervalProblem& problem) {
     }
   }
 
+  for (const auto& [f, q] : problem.exclusive)
+    rows.push_back({{z0 + static_cast<int>(f), y0 + static_cast<int>(q)}, {1.0, 1.0}, -COIN_DBL_MAX, 1.0});
+
   CoinPackedMatrix matrix(false, 0, 0);
   matrix.setDimensions(0, static_cast<int>(columns));
   std::vector<double> row_lo, row_hi;

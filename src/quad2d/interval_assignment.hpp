@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace structmesh::quad2d {
@@ -31,6 +32,9 @@ struct IntervalProblem {
     std::vector<double> chord_ideal;        ///< per chord: its length / size
   };
   std::vector<Polar> polar;
+  /// (four_sided index, polar index) pairs of the same part, of which at most one may
+  /// be rewarded (z_f + y_q <= 1).
+  std::vector<std::pair<std::size_t, std::size_t>> exclusive;
 };
 
 struct IntervalSolution {

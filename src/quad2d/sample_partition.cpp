@@ -19,6 +19,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <deque>
 #include <limits>
 #include <map>
@@ -712,12 +714,8 @@ SampledPartition sample_partition(const Partition& partition, double size, bool 
     if (sorted.back().first > kSideAngleMax) continue;  // reflex: paving
     const bool four_sided = sorted.size() >= 4 && sorted[3].first < kCornerAngle &&
                             (sorted.size() == 4 || sorted[4].first >= kSideAngleMin);
-    if (!four_sided) {
-      // Polar blocks: the corners are the breaks below 150°.
-      std::vector<std::size_t> corners;
-      for (std::size_t k = 0; k < angles.size(); ++k)
-        if (angles[k].first < kCornerAngle) corners.push_back(k);
-      if (corners.size() < 3 || corners.size() > kMaxPolarCorners) continue;
+    // Polar blocks around a centre with the given corners (loop edge indices, in loop order).
+    const auto add_polar = [&](std::vector<std::size_t> corners) {
       quad2d::IntervalProblem::Polar blocks;
       blocks.part = p;
       blocks.sides.resize(corners.size());
@@ -735,7 +733,27 @@ SampledPartition sample_partition(const Partition& partition, double size, bool 
       }
       problem.polar.push_back(std::move(blocks));
       polar_corner_edges.push_back(std::move(corners));
+    };
+    if (!four_sided) {
+      // Polar blocks: the corners are the breaks below 150°.
+      std::vector<std::size_t> corners;
+      for (std::size_t k = 0; k < angles.size(); ++k)
+        if (angles[k].first < kCornerAngle) corners.push_back(k);
+      if (corners.size() < 3 || corners.size() > kMaxPolarCorners) continue;
+      add_polar(std::move(corners));
       continue;
+    }
+    // The alternative of a four-sided part whose opposite sides cannot match (a
+    // trapezoid, a part with one short side): three polar blocks around a centre, the
+    // most obtuse of the four corners taken as a bend of a side. One singular point
+    // (valence 3) instead of the dozens paving leaves; the MILP picks at most one of
+    // the two, and the block meshers' quality check still falls back to paving.
+    {
+      std::vector<std::size_t> corners;
+      for (int i = 0; i < 3; ++i) corners.push_back(sorted[static_cast<std::size_t>(i)].second);
+      std::sort(corners.begin(), corners.end());
+      problem.exclusive.emplace_back(problem.four_sided.size(), problem.polar.size());
+      add_polar(std::move(corners));
     }
     std::vector<std::size_t> corners;
     for (int i = 0; i < 4; ++i) corners.push_back(sorted[static_cast<std::size_t>(i)].second);
@@ -781,6 +799,7 @@ SampledPartition sample_partition(const Partition& partition, double size, bool 
       compact.polar.push_back(std::move(mapped));
       compact.part_edges.push_back(remap(problem.part_edges[blocks.part]));
     }
+    compact.exclusive = problem.exclusive;
     assignment = quad2d::solve_interval_assignment(compact);
     if (assignment.solved) {
       for (std::size_t c = 0; c < curves; ++c)
@@ -922,6 +941,12 @@ SampledPartition sample_partition(const Partition& partition, double size, bool 
         assignment.polar[q] = side_sum(sides[i]) == r[(i + k - 1) % k] + r[(i + 1) % k];
     }
   }
+
+  // A part whose four-sided grid and polar alternative both hold is a grid (no
+  // singular point).
+  if (assignment.solved)
+    for (const auto& [f, q] : problem.exclusive)
+      if (assignment.mapped[f]) assignment.polar[q] = 0;
 
   SampledPartition sampled;
   sampled.size = size;

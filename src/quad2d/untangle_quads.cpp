@@ -10,10 +10,13 @@
 // this one moves the zone's points jointly with L-BFGS (LBFGS++).
 #include "quad2d/untangle_quads.hpp"
 
+#include "structmesh/quality.hpp"
+
 #include <LBFGS.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <exception>
 #include <limits>
 
@@ -21,8 +24,10 @@ namespace structmesh::paving {
 namespace {
 
 constexpr double kTheta = 1.0 / 128;  // weight of the area term (the paper's value)
-constexpr int kMaxOuter = 80;
 constexpr int kMaxInner = 300;
+constexpr int kPolishSteps = 8;
+constexpr int kPolishRings = 20;
+constexpr Index kPolishWholeLimit = 20000;
 
 double chi(double eps, double det) {
   // The second form avoids cancellation for negative det.
@@ -39,7 +44,7 @@ struct Corner {
 }  // namespace
 
 UntangleResult untangle_quads(std::vector<Vec2>& points, std::span<const std::array<Index, 4>> quads,
-                              std::span<const Index> free, double size) {
+                              std::span<const Index> free, double size, int max_steps) {
   UntangleResult result;
   if (free.empty() || !(size > 0)) return result;
   // Variable slot of each free point.
@@ -115,7 +120,7 @@ UntangleResult untangle_quads(std::vector<Vec2>& points, std::span<const std::ar
   param.max_linesearch = 40;
   LBFGSpp::LBFGSSolver<double, LBFGSpp::LineSearchBacktracking> solver(param);
   Eigen::VectorXd gradient(n);
-  for (int outer = 0; outer < kMaxOuter; ++outer) {
+  for (int outer = 0; outer < max_steps; ++outer) {
     result.outer_iterations = outer + 1;
     const double before = energy(x, gradient);
     double after = before;
@@ -130,8 +135,9 @@ UntangleResult untangle_quads(std::vector<Vec2>& points, std::span<const std::ar
       break;
     }
     detmin = min_det(x);
-    // Keep the placement with the largest smallest corner: later steps only polish.
-    if (detmin > best_detmin) best = x, best_detmin = detmin;
+    // Until the zone is valid, keep the placement with the largest smallest corner;
+    // once valid, the latest (lower energy: better shaped corners).
+    if (detmin > 0 || detmin > best_detmin) best = x, best_detmin = detmin;
     const double sigma = std::max(1 - after / before, 0.1);
     const double mu = (1 - sigma) * chi(eps, detmin);
     eps = detmin < mu ? 2 * std::sqrt(mu * (mu - detmin)) : 1e-10;
@@ -141,6 +147,75 @@ UntangleResult untangle_quads(std::vector<Vec2>& points, std::span<const std::ar
   result.min_det_after = best_detmin;
   result.valid = best_detmin > 0;
   return result;
+}
+
+double min_scaled_jacobian(std::span<const Vec2> points, std::span<const std::array<Index, 4>> quads) {
+  const Vec3 up(0, 0, 1);
+  double smallest = std::numeric_limits<double>::infinity();
+  for (const auto& q : quads) {
+    if (q[0] == kInvalidIndex) continue;
+    std::array<Vec3, 4> c;
+    for (int m = 0; m < 4; ++m) c[m] = Vec3(points[q[m]].x(), points[q[m]].y(), 0);
+    const double sj = quad_scaled_jacobian(c, &up);
+    smallest = std::isnan(sj) ? -std::numeric_limits<double>::infinity() : std::min(smallest, sj);
+  }
+  return smallest;
+}
+
+double polish_quads(std::vector<Vec2>& points, std::span<const std::array<Index, 4>> quads, Index fixed_count,
+                    double size, double threshold) {
+  const Vec3 up(0, 0, 1);
+  const auto quality = [&](const std::array<Index, 4>& q) {
+    std::array<Vec3, 4> c;
+    for (int m = 0; m < 4; ++m) c[m] = Vec3(points[q[m]].x(), points[q[m]].y(), 0);
+    return quad_scaled_jacobian(c, &up);
+  };
+  // Point -> quads (CSR) for growing the zone.
+  const auto n = static_cast<Index>(points.size());
+  std::vector<Index> offset(n + 1, 0), incident;
+  for (const auto& q : quads)
+    if (q[0] != kInvalidIndex)
+      for (const Index v : q) ++offset[v + 1];
+  for (Index p = 0; p < n; ++p) offset[p + 1] += offset[p];
+  incident.resize(offset[n]);
+  std::vector<Index> fill(offset.begin(), offset.end() - 1);
+  for (Index id = 0; id < quads.size(); ++id)
+    if (quads[id][0] != kInvalidIndex)
+      for (const Index v : quads[id]) incident[fill[v]++] = id;
+  std::vector<Index> zone;
+  std::vector<std::uint8_t> in_zone(n, 0);
+  // Small meshes (a part of a few thousand quads) move as a whole: the chords of
+  // polar blocks and the grid lines need room to even out; larger ones only around
+  // their bad quads, to bound the cost.
+  const bool whole = n - std::min(n, fixed_count) <= kPolishWholeLimit;
+  for (const auto& q : quads)
+    if (q[0] != kInvalidIndex && (whole || !(quality(q) >= threshold)))
+      for (const Index v : q)
+        if (!in_zone[v]) in_zone[v] = 1, zone.push_back(v);
+  if (zone.empty()) return min_scaled_jacobian(points, quads);
+  std::size_t begin = 0;
+  for (int ring = 0; ring < (whole ? 0 : kPolishRings); ++ring) {
+    const std::size_t end = zone.size();
+    for (std::size_t k = begin; k < end; ++k)
+      for (Index i = offset[zone[k]]; i < offset[zone[k] + 1]; ++i)
+        for (const Index w : quads[incident[i]])
+          if (!in_zone[w]) in_zone[w] = 1, zone.push_back(w);
+    begin = end;
+  }
+  std::vector<Index> free;
+  for (const Index v : zone)
+    if (v >= fixed_count) free.push_back(v);
+  std::sort(free.begin(), free.end());
+  const double before = min_scaled_jacobian(points, quads);
+  if (free.empty()) return before;
+  std::vector<Vec2> kept(free.size());
+  for (std::size_t k = 0; k < free.size(); ++k) kept[k] = points[free[k]];
+  // A few continuation steps: what they do not fix, the part's fallback (paving) will.
+  untangle_quads(points, quads, free, size, kPolishSteps);
+  const double after = min_scaled_jacobian(points, quads);
+  if (after > before) return after;
+  for (std::size_t k = 0; k < free.size(); ++k) points[free[k]] = kept[k];
+  return before;
 }
 
 }  // namespace structmesh::paving

@@ -13,17 +13,31 @@
 namespace structmesh::paving {
 
 struct UntangleResult {
-  bool valid = false;       ///< every corner of every quad touching a free point is positive
-  int outer_iterations = 0;  ///< continuation steps (each one L-BFGS minimisation)
+  bool valid = false;                            ///< every corner of every quad touching a free point is positive
+  int outer_iterations = 0;                      ///< continuation steps (each one L-BFGS minimisation)
   double min_det_before = 0, min_det_after = 0;  ///< smallest corner cross product / size²
 };
 
 /// Moves the points listed in `free` (and no other) to make the quads that touch them
 /// valid. Quads whose first index is kInvalidIndex are skipped. `size` is the target
 /// edge length: each quad corner is compared with a right angle of legs `size`.
+/// At most `max_steps` continuation steps of up to 300 L-BFGS iterations each.
 /// Deterministic. When no valid placement is found the points are left where the best
 /// attempt put them (the caller checks `valid` and falls back to remeshing).
 UntangleResult untangle_quads(std::vector<Vec2>& points, std::span<const std::array<Index, 4>> quads,
-                              std::span<const Index> free, double size);
+                              std::span<const Index> free, double size, int max_steps = 80);
+
+/// The smallest scaled Jacobian of the quads (Verdict's quad measure, +z reference);
+/// quads whose first index is kInvalidIndex are skipped; +inf for none.
+double min_scaled_jacobian(std::span<const Vec2> points, std::span<const std::array<Index, 4>> quads);
+
+/// Shape optimisation of a quad mesh whose points from `fixed_count` on may move,
+/// where it is worse than `threshold`: untangle_quads() over the movable points within
+/// a few quad rings of every quad below it, which at its small final ε minimises the
+/// corners' conformal distortion |J|² / det J (right angles, equal legs). Keeps the
+/// result only when its smallest scaled Jacobian is larger than before; returns the
+/// smallest scaled Jacobian of what is kept.
+double polish_quads(std::vector<Vec2>& points, std::span<const std::array<Index, 4>> quads, Index fixed_count,
+                    double size, double threshold);
 
 }  // namespace structmesh::paving

@@ -143,5 +143,72 @@ TEST(IntervalAssignment, PolarPentagonCountsHold) {
   for (std::size_t i = 0; i < 5; ++i) EXPECT_EQ(s.counts[i], r[(i + 4) % 5] + r[(i + 1) % 5]) << i;
 }
 
+TEST(IntervalAssignment, TrapezoidTakesItsPolarAlternativeAndNeverBoth) {
+  // A four-sided part with sides 20, 10, 8, 10: bottom and top cannot match within
+  // the allowed size range, so the grid is out; the three-block alternative (corners
+  // 0, 1, 2; the last side joins top and left) holds. The pair is exclusive.
+  quad2d::IntervalProblem problem;
+  problem.ideal = {20, 10, 8, 10};
+  problem.minimum.assign(4, 1);
+  problem.part_edges = {{0, 1, 2, 3}};
+  problem.four_sided.push_back({0, {{{0}, {1}, {2}, {3}}}});
+  quad2d::IntervalProblem::Polar polar;
+  polar.part = 0;
+  polar.sides = {{0}, {1}, {2, 3}};
+  polar.chord_ideal = {5, 5, 5};
+  problem.polar.push_back(polar);
+  problem.exclusive.emplace_back(0, 0);
+  const quad2d::IntervalSolution s = quad2d::solve_interval_assignment(problem);
+  ASSERT_TRUE(s.solved);
+  EXPECT_EQ(s.mapped, (std::vector<std::uint8_t>{0}));
+  ASSERT_EQ(s.polar, (std::vector<std::uint8_t>{1}));
+  const auto& r = s.chord_segments[0];
+  EXPECT_EQ(s.counts[0], r[2] + r[1]);
+  EXPECT_EQ(s.counts[1], r[0] + r[2]);
+  EXPECT_EQ(s.counts[2] + s.counts[3], r[1] + r[0]);
+  EXPECT_EQ((s.counts[0] + s.counts[1] + s.counts[2] + s.counts[3]) % 2, 0U);
+
+  // A square: both would hold; the MILP may reward only one, the grid (larger reward).
+  problem.ideal = {10, 10, 10, 10};
+  const quad2d::IntervalSolution square = quad2d::solve_interval_assignment(problem);
+  ASSERT_TRUE(square.solved);
+  EXPECT_EQ(square.mapped, (std::vector<std::uint8_t>{1}));
+  EXPECT_EQ(square.polar.size(), 1U);
+  EXPECT_FALSE(square.mapped[0] && square.polar[0]) << "both blocks rewarded";
+}
+
+TEST(PolarMesh, UnevenBlocksArePolishedTogether) {
+  // A scalene triangle whose long side bends outward at its split point, meshed as
+  // three polar blocks: with straight chords to the centroid the blocks' worst corner
+  // is below the acceptance threshold; moving the chord points and the centre with
+  // the interiors must lift it over (or give nothing, which this shape must not).
+  const Vec2 a(0, 0), b(4, 0), c(1, 2.6), bend(0.2, 1.4);
+  const std::vector<Vec2> corners{a, b, c, bend};
+  const std::vector<int> per_side{14, 12, 6, 6};  // 38 segments; the bend splits side c -> a
+  std::vector<Vec2> ring;
+  for (std::size_t i = 0; i < corners.size(); ++i)
+    for (int j = 0; j < per_side[i]; ++j)
+      ring.push_back(corners[i] + (corners[(i + 1) % corners.size()] - corners[i]) * (double(j) / per_side[i]));
+  Polygon2 polygon;
+  polygon.add_ring(ring);
+  // Sides 14 (a -> b), 12 (b -> c), 12 (c -> a over the bend); side i = r_{i-1} +
+  // r_{i+1} gives r = (5, 7, 7); side i's first piece has r_{i-1} segments.
+  PolarBlocks blocks;
+  blocks.corners = {0, 14, 26};
+  blocks.chord_segments = {5, 7, 7};
+  blocks.splits = {0 + 7, 14 + 5, 26 + 7};
+  const std::optional<PavedPart> part = polar_mesh(polygon, blocks);
+  ASSERT_TRUE(part.has_value());
+  QuadMesh mesh;
+  for (const Vec2& p : part->points) mesh.points.emplace_back(p.x(), p.y(), 0.0);
+  mesh.quads = part->quads;
+  const QuadQuality quality = quad_quality(mesh);
+  EXPECT_EQ(quality.inverted, 0U);
+  EXPECT_GE(quality.scaled_jacobian_stats.min, MappedMeshOptions{}.min_scaled_jacobian);
+  EXPECT_EQ(quality.singular_vertices, 1U);
+  EXPECT_NEAR(quad_mesh_area(mesh), area(polygon), 1e-9 * area(polygon));
+  for (std::size_t i = 0; i < polygon.points.size(); ++i) ASSERT_EQ(part->points[i], polygon.points[i]);
+}
+
 }  // namespace
 }  // namespace structmesh
