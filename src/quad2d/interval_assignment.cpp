@@ -27,7 +27,6 @@ namespace structmesh::quad2d {
 namespace {
 
 constexpr double kMappedReward = 2.0;
-constexpr double kPolarReward = 1.5;  // one singular vertex (the centre), not none
 // Branch-and-bound nodes: a limit on work, not on time, so the result is the same on
 // any machine. The LP relaxation is nearly always integral here.
 constexpr int kNodeLimit = 500;
@@ -70,7 +69,7 @@ IntervalSolution solve_interval_assignment(const IntervalProblem& problem) {
   }
   for (std::size_t q = 0; q < polar; ++q) {
     col_hi[y0 + q] = 1.0;
-    objective[y0 + q] = -kPolarReward;
+    objective[y0 + q] = -problem.polar[q].reward;
     for (std::size_t i = 0; i < problem.polar[q].sides.size(); ++i) {
       const std::size_t c = chord_offset[q] + i;
       const double t = problem.polar[q].chord_ideal[i];

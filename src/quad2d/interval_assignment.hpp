@@ -30,6 +30,7 @@ struct IntervalProblem {
     std::size_t part = 0;
     std::vector<std::vector<Index>> sides;  ///< edges of each side, in loop order
     std::vector<double> chord_ideal;        ///< per chord: its length / size
+    double reward = 1.5;  ///< objective reward when its counts hold (a grid's is 2: no singular point)
   };
   std::vector<Polar> polar;
   /// (four_sided index, polar index) pairs of the same part, of which at most one may
@@ -46,7 +47,8 @@ struct IntervalSolution {
 };
 
 /// Minimises the summed relative deviation |n_e - ideal_e| / max(1, ideal_e) minus a
-/// reward for every four-sided part whose opposite sides match, subject to the even
+/// reward for every four-sided part whose opposite sides match and every polar part
+/// whose block counts hold, subject to the even
 /// parity of every part (an MILP solved by COIN-OR CBC with a node limit, so the
 /// answer does not depend on the machine's speed).
 IntervalSolution solve_interval_assignment(const IntervalProblem& problem);

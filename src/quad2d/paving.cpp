@@ -319,6 +319,9 @@ PavedPart Paver::run() {
 }  // namespace paving
 
 PavedPart pave(const Polygon2& boundary, const PavingOptions& options) {
+  // The worst quad that the block meshers accept (MappedMeshOptions); a paved part
+  // below it is polished.
+  constexpr double kPolishBelow = 0.6;
   // Every paving decision depends on the target size: when a run ends with a quad it
   // could not untangle or a loop nothing closes, a run with a slightly different size
   // takes other decisions and almost always succeeds (deterministic: fixed factors).
@@ -337,6 +340,11 @@ PavedPart pave(const Polygon2& boundary, const PavingOptions& options) {
       const paving::CleanupStats cleanup =
           paving::clean_up_quads(part.points, part.quads, static_cast<Index>(boundary.points.size()), paver.size());
       part.stats.cleanup_operations = cleanup.swaps + cleanup.collapses + cleanup.doublets;
+      // A part whose worst quad is poor (a row squeezed between fronts) gets the
+      // angle polish of its free points; kept only if the worst quad improves.
+      if (paving::min_scaled_jacobian(part.points, part.quads) < kPolishBelow)
+        paving::polish_quads(part.points, part.quads, static_cast<Index>(boundary.points.size()), paver.size(),
+                             kPolishBelow);
       return part;
     } catch (const InputError&) {
       throw;

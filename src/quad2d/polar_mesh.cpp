@@ -108,7 +108,7 @@ std::optional<PavedPart> polar_mesh(const Polygon2& boundary, const PolarBlocks&
     for (const auto& quad : grid->quads)
       result.quads.push_back({global[quad[0]], global[quad[1]], global[quad[2]], global[quad[3]]});
   }
-  if (!(paving::min_scaled_jacobian(result.points, result.quads) >= options.min_scaled_jacobian)) {
+  {
     // Straight chords to the centroid give blocks of uneven shape (measured on the
     // Key: worst corners 0.3..0.55, some blocks folded). Moving the chord points and
     // the centre with the interiors evens them out (0.58..0.74 on the same parts).

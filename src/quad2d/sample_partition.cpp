@@ -19,8 +19,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <deque>
 #include <limits>
 #include <map>
@@ -50,6 +48,12 @@ constexpr double kSideAngleMin = 100.0 * std::numbers::pi / 180.0;
 constexpr double kSideAngleMax = 1.25 * std::numbers::pi;
 // Polar blocks for parts with 3..8 corners (more: the centre sees too much).
 constexpr std::size_t kMaxPolarCorners = 8;
+// Interval assignment rewards (a matching grid: 2, no singular point): polar blocks
+// have one singular point; the three-block alternative of a four-sided part is
+// worth less than changing its sides' counts a little to make the grid match.
+constexpr double kPolarReward = 1.5;
+constexpr double kAlternativePolarReward = 0.75;
+constexpr double kUnmatchableRatio = 1.6;  // a bit below 1.33 / 0.75
 
 // A curve as pieces between kept vertices: piece i runs from polyline vertex
 // breaks[i] to breaks[i+1] and gets segments[i] segments.
@@ -715,9 +719,10 @@ SampledPartition sample_partition(const Partition& partition, double size, bool 
     const bool four_sided = sorted.size() >= 4 && sorted[3].first < kCornerAngle &&
                             (sorted.size() == 4 || sorted[4].first >= kSideAngleMin);
     // Polar blocks around a centre with the given corners (loop edge indices, in loop order).
-    const auto add_polar = [&](std::vector<std::size_t> corners) {
+    const auto add_polar = [&](std::vector<std::size_t> corners, double reward) {
       quad2d::IntervalProblem::Polar blocks;
       blocks.part = p;
+      blocks.reward = reward;
       blocks.sides.resize(corners.size());
       // Chord lengths: from each side's arc-length midpoint to the mean of the corners.
       Vec2 centre = Vec2::Zero();
@@ -740,24 +745,34 @@ SampledPartition sample_partition(const Partition& partition, double size, bool 
       for (std::size_t k = 0; k < angles.size(); ++k)
         if (angles[k].first < kCornerAngle) corners.push_back(k);
       if (corners.size() < 3 || corners.size() > kMaxPolarCorners) continue;
-      add_polar(std::move(corners));
+      add_polar(std::move(corners), kPolarReward);
       continue;
-    }
-    // The alternative of a four-sided part whose opposite sides cannot match (a
-    // trapezoid, a part with one short side): three polar blocks around a centre, the
-    // most obtuse of the four corners taken as a bend of a side. One singular point
-    // (valence 3) instead of the dozens paving leaves; the MILP picks at most one of
-    // the two, and the block meshers' quality check still falls back to paving.
-    {
-      std::vector<std::size_t> corners;
-      for (int i = 0; i < 3; ++i) corners.push_back(sorted[static_cast<std::size_t>(i)].second);
-      std::sort(corners.begin(), corners.end());
-      problem.exclusive.emplace_back(problem.four_sided.size(), problem.polar.size());
-      add_polar(std::move(corners));
     }
     std::vector<std::size_t> corners;
     for (int i = 0; i < 4; ++i) corners.push_back(sorted[static_cast<std::size_t>(i)].second);
     std::sort(corners.begin(), corners.end());
+    // The alternative of a four-sided part whose opposite sides cannot match (a
+    // trapezoid, a part with one short side: lengths further apart than the counts'
+    // range of 0.75..1.33 times the ideal allows): three polar blocks around a centre,
+    // the most obtuse of the four corners taken as a bend of a side. One singular
+    // point (valence 3) instead of the dozens paving leaves; the MILP picks at most
+    // one of the two, and the block meshers' quality check still falls back to paving.
+    // Parts whose grid can match get no alternative: candidates that then fail the
+    // quality check would only constrain their neighbours' counts.
+    std::array<double, 4> side_length{};
+    for (int side = 0; side < 4; ++side)
+      for (std::size_t k = corners[side]; k != corners[(side + 1) % 4]; k = (k + 1) % loop.size())
+        side_length[side] += plans[loop[k].curve].lengths[loop[k].piece];
+    const auto mismatch = [&](int a, int b) {
+      return std::max(side_length[a], side_length[b]) > kUnmatchableRatio * std::min(side_length[a], side_length[b]);
+    };
+    if (mismatch(0, 2) || mismatch(1, 3)) {
+      std::vector<std::size_t> polar_corners;
+      for (int i = 0; i < 3; ++i) polar_corners.push_back(sorted[static_cast<std::size_t>(i)].second);
+      std::sort(polar_corners.begin(), polar_corners.end());
+      problem.exclusive.emplace_back(problem.four_sided.size(), problem.polar.size());
+      add_polar(std::move(polar_corners), kAlternativePolarReward);
+    }
     quad2d::IntervalProblem::FourSided four;
     four.part = p;
     for (int side = 0; side < 4; ++side)
