@@ -54,6 +54,9 @@ constexpr std::size_t kMaxPolarCorners = 8;
 constexpr double kPolarReward = 1.5;
 constexpr double kAlternativePolarReward = 0.75;
 constexpr double kUnmatchableRatio = 1.6;  // a bit below 1.33 / 0.75
+// Parts of up to this many expected quads: their polar blocks can be polished
+// together (polish_quads() takes up to 20k free points).
+constexpr double kSmallPartQuads = 15000;
 
 // A curve as pieces between kept vertices: piece i runs from polyline vertex
 // breaks[i] to breaks[i+1] and gets segments[i] segments.
@@ -715,8 +718,13 @@ SampledPartition sample_partition(const Partition& partition, double size, bool 
     }
     std::vector<std::pair<double, std::size_t>> sorted = angles;
     std::stable_sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    if (sorted.back().first > kSideAngleMax) continue;  // reflex: paving
-    const bool four_sided = sorted.size() >= 4 && sorted[3].first < kCornerAngle &&
+    // A part with a reflex break is paved, unless it is small enough for the polar
+    // blocks' polish (the reflex break becomes a bend of a side; the polish must lift
+    // every quad over the threshold, else the part is paved after all).
+    const bool reflex = sorted.back().first > kSideAngleMax;
+    const bool small = partition.part_areas[p] / (size * size) <= kSmallPartQuads;
+    if (reflex && !small) continue;
+    const bool four_sided = !reflex && sorted.size() >= 4 && sorted[3].first < kCornerAngle &&
                             (sorted.size() == 4 || sorted[4].first >= kSideAngleMin);
     // Polar blocks around a centre with the given corners (loop edge indices, in loop order).
     const auto add_polar = [&](std::vector<std::size_t> corners, double reward) {
@@ -745,7 +753,7 @@ SampledPartition sample_partition(const Partition& partition, double size, bool 
       for (std::size_t k = 0; k < angles.size(); ++k)
         if (angles[k].first < kCornerAngle) corners.push_back(k);
       if (corners.size() < 3 || corners.size() > kMaxPolarCorners) continue;
-      add_polar(std::move(corners), kPolarReward);
+      add_polar(std::move(corners), reflex ? kAlternativePolarReward : kPolarReward);
       continue;
     }
     std::vector<std::size_t> corners;
