@@ -8,7 +8,6 @@
 // reentrant corner of a side. So the result is accepted only if every quad's scaled
 // Jacobian (+z reference) reaches the threshold; otherwise the caller paves.
 #include "quad2d/mapped_mesh.hpp"
-#include "quad2d/untangle_quads.hpp"
 
 #include "structmesh/error.hpp"
 #include "structmesh/quality.hpp"
@@ -258,35 +257,23 @@ std::optional<PavedPart> mapped_mesh(const Polygon2& boundary, const std::array<
   for (std::size_t i = 0; i < ring.size(); ++i) perimeter += (ring[(i + 1) % ring.size()] - ring[i]).norm();
   const double tolerance = 1e-10 * perimeter / static_cast<double>(ring.size());
 
-  // `!(q >= threshold)` also rejects a NaN quality. The first grid that passes is
-  // taken; otherwise the valid grid with the best worst quad is polished below.
-  std::optional<StructuredGrid> chosen, best_valid;
-  double best_quality = 0;
-  const auto consider = [&](StructuredGrid&& g) {
-    const double quality = min_scaled_jacobian(g);
-    if (quality >= options.min_scaled_jacobian) {
-      chosen = std::move(g);
-    } else if (quality > best_quality) {
-      best_quality = quality;
-      best_valid = std::move(g);
-    }
-  };
+  // `!(q >= threshold)` also rejects a NaN quality.
+  const auto accepted = [&](const StructuredGrid& g) { return min_scaled_jacobian(g) >= options.min_scaled_jacobian; };
+  std::optional<StructuredGrid> chosen;
   if (options.smoothing_iterations == 0) {
-    consider(StructuredGrid(initial));
+    if (accepted(initial)) chosen = initial;
   } else {
     // Winslow with control functions keeps the boundary spacing; without them it is
     // the more robust harmonic map; Laplacian smoothing of the interpolated grid is the
     // last resort (it cannot diverge, being a mean of neighbours, but folds more easily
-    // on concave sides).
+    // on concave sides). The first grid that passes is taken.
     for (int attempt = 0; attempt < 3 && !chosen; ++attempt) {
       StructuredGrid g = initial;
       const Smoothing result = attempt < 2 ? winslow_smooth(g, options.smoothing_iterations, tolerance, attempt == 0)
                                            : laplace_smooth(g, options.smoothing_iterations, tolerance);
-      if (result != Smoothing::Diverged) consider(std::move(g));
+      if (result != Smoothing::Diverged && accepted(g)) chosen = std::move(g);
     }
   }
-  const bool polish = !chosen && best_valid && options.smoothing_iterations > 0;
-  if (polish) chosen = std::move(best_valid);
   if (!chosen) return std::nullopt;
 
   const StructuredGrid& g = *chosen;
@@ -307,15 +294,6 @@ std::optional<PavedPart> mapped_mesh(const Polygon2& boundary, const std::array<
     for (std::size_t i = 0; i < g.ni; ++i)
       part.quads.push_back(
           {point[g.node(i, j)], point[g.node(i + 1, j)], point[g.node(i + 1, j + 1)], point[g.node(i, j + 1)]});
-  if (polish) {
-    // Winslow's grid is valid but has a corner below the threshold (sides of much
-    // different lengths, a concave side): the conformal energy of untangle_quads()
-    // over all interior points at once often lifts the worst corner over it.
-    const double size = perimeter / static_cast<double>(ring.size());
-    const auto fixed = static_cast<Index>(boundary.points.size());
-    const double after = paving::polish_quads(part.points, part.quads, fixed, size, options.min_scaled_jacobian);
-    if (!(after >= options.min_scaled_jacobian)) return std::nullopt;
-  }
   return part;
 }
 

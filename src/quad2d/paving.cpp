@@ -344,7 +344,7 @@ PavedPart pave(const Polygon2& boundary, const PavingOptions& options) {
       // angle polish of its free points; kept only if the worst quad improves.
       if (paving::min_scaled_jacobian(part.points, part.quads) < kPolishBelow)
         paving::polish_quads(part.points, part.quads, static_cast<Index>(boundary.points.size()), paver.size(),
-                             kPolishBelow);
+                             kPolishBelow, paving::kConformalEnergy);
       return part;
     } catch (const InputError&) {
       throw;

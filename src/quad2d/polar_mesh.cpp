@@ -116,7 +116,7 @@ std::optional<PavedPart> polar_mesh(const Polygon2& boundary, const PolarBlocks&
     for (std::size_t i = 0; i < ring.size(); ++i) perimeter += (ring[(i + 1) % ring.size()] - ring[i]).norm();
     const double size = perimeter / static_cast<double>(ring.size());
     const double after = paving::polish_quads(result.points, result.quads, static_cast<Index>(ring.size()), size,
-                                              options.min_scaled_jacobian);
+                                              options.min_scaled_jacobian, paving::kBlockPolishEnergy);
     if (!(after >= options.min_scaled_jacobian)) return std::nullopt;
   }
   result.stats.polar = 1;

@@ -23,7 +23,6 @@
 namespace structmesh::paving {
 namespace {
 
-constexpr double kTheta = 1.0 / 128;  // weight of the area term (the paper's value)
 constexpr int kMaxInner = 300;
 constexpr int kPolishSteps = 3;
 constexpr Index kPolishLimit = 20000;
@@ -43,8 +42,9 @@ struct Corner {
 }  // namespace
 
 UntangleResult untangle_quads(std::vector<Vec2>& points, std::span<const std::array<Index, 4>> quads,
-                              std::span<const Index> free, double size, int max_steps, CornerEnergy kind) {
-  const bool angle_mode = kind == CornerEnergy::angle;
+                              std::span<const Index> free, double size, int max_steps,
+                              const CornerEnergy& energy_kind) {
+  const double beta = energy_kind.legs, theta = energy_kind.area;
   UntangleResult result;
   if (free.empty() || !(size > 0)) return result;
   // Variable slot of each free point.
@@ -85,15 +85,14 @@ UntangleResult untangle_quads(std::vector<Vec2>& points, std::span<const std::ar
       const double det = u.x() * w.y() - u.y() * w.x();
       const double c = chi(eps, det), dc = chi_derivative(eps, det);
       const double lu = std::max(u.norm(), 1e-12), lw = std::max(w.norm(), 1e-12);
-      const double frobenius = angle_mode ? 2 * lu * lw : u.squaredNorm() + w.squaredNorm();
-      const double numerator = (1 - kTheta) * frobenius + kTheta * (det * det + 1);
+      const double shape = 2 * lu * lw + beta * (lu - lw) * (lu - lw);
+      const double numerator = (1 - theta) * shape + theta * (det * det + 1);
       total += numerator / c;
       // dE/d det and dE/du, dE/dw (det = u.x w.y - u.y w.x).
-      const double d_det = -numerator * dc / (c * c) + kTheta * 2 * det / c;
-      const Vec2 fu = angle_mode ? Vec2(2 * lw / lu * u) : Vec2(2 * u),
-                 fw = angle_mode ? Vec2(2 * lu / lw * w) : Vec2(2 * w);
-      const Vec2 du = ((1 - kTheta) / c) * fu + d_det * Vec2(w.y(), -w.x());
-      const Vec2 dw = ((1 - kTheta) / c) * fw + d_det * Vec2(-u.y(), u.x());
+      const double d_det = -numerator * dc / (c * c) + theta * 2 * det / c;
+      const Vec2 fu = ((2 * lw + 2 * beta * (lu - lw)) / lu) * u, fw = ((2 * lu + 2 * beta * (lw - lu)) / lw) * w;
+      const Vec2 du = ((1 - theta) / c) * fu + d_det * Vec2(w.y(), -w.x());
+      const Vec2 dw = ((1 - theta) / c) * fw + d_det * Vec2(-u.y(), u.x());
       const auto add = [&](Index p, const Vec2& g) {
         const Index s = slot[p];
         if (s == kInvalidIndex) return;
@@ -185,7 +184,7 @@ double min_scaled_jacobian(std::span<const Vec2> points, std::span<const std::ar
 }
 
 double polish_quads(std::vector<Vec2>& points, std::span<const std::array<Index, 4>> quads, Index fixed_count,
-                    double size, double threshold) {
+                    double size, double threshold, const CornerEnergy& energy) {
   // Only meshes of a part of a few thousand quads: the chords of polar blocks and the
   // grid lines need the whole part to even out, and on larger parts the optimisation
   // costs more than paving them (measured on the Key at 2M quads in 64 parts: polishing
@@ -200,13 +199,10 @@ double polish_quads(std::vector<Vec2>& points, std::span<const std::array<Index,
   std::vector<Vec2> kept(free.size());
   for (std::size_t k = 0; k < free.size(); ++k) kept[k] = points[free[k]];
   // A few continuation steps: what they do not fix, the part's fallback (paving) will.
-  // The angle energy: the conformal one also evens out the legs, which costs right
-  // angles where a block's sides differ in length (Key, 32 parts: the polished polar
-  // parts average a scaled Jacobian of 0.957..0.988 with it, 0.997..0.999 without).
-  // A folded start is untangled with the conformal energy first (the angle energy
-  // alone leaves folds in place: measured on the Key's polar parts).
-  if (!(before.min > 0)) untangle_quads(points, quads, free, size, kPolishSteps, CornerEnergy::conformal);
-  untangle_quads(points, quads, free, size, kPolishSteps, CornerEnergy::angle);
+  // A folded start is untangled with the conformal energy first (an energy with a
+  // small leg weight alone leaves folds in place: measured on the Key's polar parts).
+  if (!(before.min > 0)) untangle_quads(points, quads, free, size, kPolishSteps, kConformalEnergy);
+  untangle_quads(points, quads, free, size, kPolishSteps, energy);
   const QualitySummary after = summarize(points, quads);
   // Kept when the worst quad improves, or when the mean does without the worst
   // falling below both its old value and the threshold.

@@ -36,7 +36,15 @@ constexpr int kTitleRows = 28;
 constexpr int kLegendRows = 52;
 constexpr int kBandRows = 16;
 constexpr std::size_t kChunkQuads = std::size_t{1} << 15;
-constexpr double kEdgeMinSizePx = 5;  // sqrt(pixel area) of a quad whose edges are drawn
+// Edges are drawn for every quad of at least kEdgeMinSizePx (sqrt of its pixel area)
+// when the median quad in view reaches kEdgeMedianSizePx; otherwise only for quads of
+// kEdgeLargeSizePx and more. A single per-quad threshold drew the edges of about half
+// the quads of a mesh whose quads are near it, a patchwork that looked like missing
+// elements.
+constexpr double kEdgeMinSizePx = 2;
+constexpr double kEdgeMedianSizePx = 5;
+constexpr double kEdgeLargeSizePx = 10;
+constexpr std::size_t kEdgeSampleQuads = 100000;
 
 // Viridis (matplotlib's perceptually uniform, colour-blind-safe map; van der Walt &
 // Smith 2015) sampled at 0, 0.1, ..., 1 and interpolated linearly in sRGB: dark
@@ -368,9 +376,29 @@ BandLists bucket_by_band(const QuadMesh& mesh, const ToPixel& t, const PixelRect
   return lists;
 }
 
+double quad_pixel_area(const QuadPixels& p) {
+  return 0.5 * std::abs((p.x[2] - p.x[0]) * (p.y[3] - p.y[1]) - (p.x[3] - p.x[1]) * (p.y[2] - p.y[0]));
+}
+
+/// The smallest pixel size (sqrt of area) of a quad whose edges are drawn: from the
+/// median over an evenly spaced sample of the quads that meet the view.
+double edge_min_size_px(const QuadMesh& mesh, const ToPixel& t, const PixelRect& clip) {
+  const std::size_t step = std::max<std::size_t>(1, mesh.quads.size() / kEdgeSampleQuads);
+  std::vector<double> sizes;
+  for (std::size_t q = 0; q < mesh.quads.size(); q += step) {
+    const QuadPixels p = quad_pixels(mesh, t, static_cast<Index>(q));
+    if (p.max_x < clip.x0 || p.min_x > clip.x1 + 1 || p.max_y < clip.y0 || p.min_y > clip.y1 + 1) continue;
+    sizes.push_back(std::sqrt(quad_pixel_area(p)));
+  }
+  if (sizes.empty()) return kEdgeLargeSizePx;
+  auto middle = sizes.begin() + static_cast<std::ptrdiff_t>(sizes.size() / 2);
+  std::nth_element(sizes.begin(), middle, sizes.end());
+  return *middle >= kEdgeMedianSizePx ? kEdgeMinSizePx : kEdgeLargeSizePx;
+}
+
 void draw_band(Image& image, const QuadMesh& mesh, std::span<const double> values, const Palette& palette,
                const ToPixel& t, const PixelRect& clip, std::span<const Index> quads, int row_first, int row_last,
-               bool edges) {
+               double edge_size_px) {
   for (const Index q : quads) {
     const QuadPixels p = quad_pixels(mesh, t, q);
     const Rgb c = palette(values[q]);
@@ -388,12 +416,11 @@ void draw_band(Image& image, const QuadMesh& mesh, std::span<const double> value
       fill_quad(image, p, c, clip, row_first, row_last, row_first, row_last);
     }
   }
-  if (!edges) return;
+  if (!(edge_size_px > 0)) return;
   const PixelRect band{clip.x0, row_first, clip.x1, row_last};
   for (const Index q : quads) {
     const QuadPixels p = quad_pixels(mesh, t, q);
-    const double twice_area = (p.x[2] - p.x[0]) * (p.y[3] - p.y[1]) - (p.x[3] - p.x[1]) * (p.y[2] - p.y[0]);
-    if (!(0.5 * std::abs(twice_area) >= kEdgeMinSizePx * kEdgeMinSizePx)) continue;
+    if (!(quad_pixel_area(p) >= edge_size_px * edge_size_px)) continue;
     for (int e = 0; e < 4; ++e)
       draw_segment(image, p.x[e], p.y[e], p.x[(e + 1) & 3], p.y[(e + 1) & 3], kEdgeColor, band);
   }
@@ -445,12 +472,13 @@ Image quad_mesh_image(const QuadMesh& mesh, std::span<const double> cell_values,
     const ToPixel t(image);
     const int band_count = (clip.y1 - clip.y0) / kBandRows + 1;
     const BandLists lists = bucket_by_band(mesh, t, clip, band_count);
+    const double edge_size_px = options.edges ? edge_min_size_px(mesh, t, clip) : 0.0;
     tbb::parallel_for(tbb::blocked_range<int>(0, band_count, 1), [&](const tbb::blocked_range<int>& r) {
       for (int b = r.begin(); b != r.end(); ++b) {
         const std::span<const Index> quads(lists.quads.data() + lists.band_start[b],
                                            lists.quads.data() + lists.band_start[b + 1]);
         const int row_first = clip.y0 + b * kBandRows, row_last = std::min(clip.y1, row_first + kBandRows - 1);
-        draw_band(image, mesh, cell_values, palette, t, clip, quads, row_first, row_last, options.edges);
+        draw_band(image, mesh, cell_values, palette, t, clip, quads, row_first, row_last, edge_size_px);
       }
     });
   }

@@ -208,6 +208,19 @@ TEST(PolarMesh, UnevenBlocksArePolishedTogether) {
   EXPECT_EQ(quality.singular_vertices, 1U);
   EXPECT_NEAR(quad_mesh_area(mesh), area(polygon), 1e-9 * area(polygon));
   for (std::size_t i = 0; i < polygon.points.size(); ++i) ASSERT_EQ(part->points[i], polygon.points[i]);
+  // Right angles must not be bought with slivers: an energy for angles alone
+  // stretched quads to edge ratios of 10 and more on such parts.
+  double worst_ratio = 0;
+  for (const auto& q : part->quads) {
+    double shortest = INFINITY, longest = 0;
+    for (int e = 0; e < 4; ++e) {
+      const double length = (part->points[q[(e + 1) % 4]] - part->points[q[e]]).norm();
+      shortest = std::min(shortest, length);
+      longest = std::max(longest, length);
+    }
+    worst_ratio = std::max(worst_ratio, longest / shortest);
+  }
+  EXPECT_LT(worst_ratio, 4.0);
 }
 
 }  // namespace
