@@ -13,6 +13,8 @@
 // whole segment each.
 #include "quad2d/interval_assignment.hpp"
 
+#include "structmesh/error.hpp"
+
 #include <CbcModel.hpp>
 #include <CbcSolver.hpp>
 #include <CoinPackedMatrix.hpp>
@@ -20,6 +22,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 
 namespace structmesh::quad2d {
@@ -30,6 +33,8 @@ constexpr double kMappedReward = 2.0;
 // Branch-and-bound nodes: a limit on work, not on time, so the result is the same on
 // any machine. The LP relaxation is nearly always integral here.
 constexpr int kNodeLimit = 500;
+// Parts per cluster of the clustered solve (solve_interval_assignment()).
+constexpr std::size_t kClusterParts = 24;
 
 struct Row {
   std::vector<int> index;
@@ -39,7 +44,9 @@ struct Row {
 
 }  // namespace
 
-IntervalSolution solve_interval_assignment(const IntervalProblem& problem) {
+namespace {
+
+IntervalSolution solve_whole(const IntervalProblem& problem) {
   const std::size_t edges = problem.ideal.size();
   const std::size_t parts = problem.part_edges.size();
   const std::size_t mapped = problem.four_sided.size();
@@ -61,6 +68,7 @@ IntervalSolution solve_interval_assignment(const IntervalProblem& problem) {
     const double rounded = std::max(1.0, std::round(t));
     col_lo[n0 + e] = std::max<double>(problem.minimum[e], std::min(rounded - 1.0, std::floor(0.75 * t)));
     col_hi[n0 + e] = std::max(rounded + 1.0, std::ceil(1.33 * t));
+    if (!problem.fixed.empty() && problem.fixed[e] != kInvalidIndex) col_lo[n0 + e] = col_hi[n0 + e] = problem.fixed[e];
     objective[d0 + e] = 1.0 / std::max(1.0, t);
   }
   for (std::size_t f = 0; f < mapped; ++f) {
@@ -230,6 +238,149 @@ IntervalSolution solve_interval_assignment(const IntervalProblem& problem) {
     solution.polar[q] = holds ? 1 : 0;
   }
   solution.solved = true;
+  return solution;
+}
+
+}  // namespace
+
+IntervalSolution solve_interval_assignment(const IntervalProblem& problem) {
+  std::size_t parts = problem.part_ids.size();
+  if (problem.part_ids.empty()) {
+    parts = problem.part_edges.size();
+  } else {
+    std::vector<std::size_t> ids = problem.part_ids;
+    std::sort(ids.begin(), ids.end());
+    parts = static_cast<std::size_t>(std::unique(ids.begin(), ids.end()) - ids.begin());
+  }
+  IntervalSolution whole = solve_whole(problem);
+  if (whole.solved || parts <= kClusterParts) return whole;
+  return solve_interval_assignment_in_clusters(problem, kClusterParts);
+}
+
+IntervalSolution solve_interval_assignment_in_clusters(const IntervalProblem& problem, std::size_t cluster_parts) {
+  if (cluster_parts == 0) throw InputError("solve_interval_assignment_in_clusters: clusters need at least one part");
+  const std::size_t rows = problem.part_edges.size();
+  const auto id_of = [&](std::size_t row) { return problem.part_ids.empty() ? row : problem.part_ids[row]; };
+  std::vector<std::size_t> ids;
+  for (std::size_t row = 0; row < rows; ++row) ids.push_back(id_of(row));
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+
+  const std::size_t edges = problem.ideal.size();
+  const auto local_id = [&](std::size_t id) {
+    return static_cast<std::size_t>(std::lower_bound(ids.begin(), ids.end(), id) - ids.begin());
+  };
+  // Parts sharing an edge are neighbours.
+  std::vector<std::vector<std::size_t>> edge_parts(edges), neighbours(ids.size()), part_rows(ids.size());
+  for (std::size_t row = 0; row < rows; ++row) {
+    const std::size_t part = local_id(id_of(row));
+    part_rows[part].push_back(row);
+    for (const Index e : problem.part_edges[row]) edge_parts[e].push_back(part);
+  }
+  for (auto& parts : edge_parts) {
+    std::sort(parts.begin(), parts.end());
+    parts.erase(std::unique(parts.begin(), parts.end()), parts.end());
+    for (const std::size_t a : parts)
+      for (const std::size_t b : parts)
+        if (a != b) neighbours[a].push_back(b);
+  }
+  for (auto& list : neighbours) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+  }
+  // Clusters: breadth-first from the lowest unclustered part, up to cluster_parts each.
+  std::vector<std::size_t> cluster_of(ids.size(), SIZE_MAX);
+  std::vector<std::vector<std::size_t>> clusters;
+  for (std::size_t start = 0; start < ids.size(); ++start) {
+    if (cluster_of[start] != SIZE_MAX) continue;
+    std::vector<std::size_t> members{start};
+    cluster_of[start] = clusters.size();
+    for (std::size_t k = 0; k < members.size() && members.size() < cluster_parts; ++k)
+      for (const std::size_t b : neighbours[members[k]]) {
+        if (cluster_of[b] != SIZE_MAX || members.size() >= cluster_parts) continue;
+        cluster_of[b] = clusters.size();
+        members.push_back(b);
+      }
+    clusters.push_back(std::move(members));
+  }
+  // Entries of each cluster.
+  std::vector<std::vector<std::size_t>> cluster_four(clusters.size()), cluster_polar(clusters.size());
+  for (std::size_t f = 0; f < problem.four_sided.size(); ++f)
+    cluster_four[cluster_of[local_id(problem.four_sided[f].part)]].push_back(f);
+  for (std::size_t q = 0; q < problem.polar.size(); ++q)
+    cluster_polar[cluster_of[local_id(problem.polar[q].part)]].push_back(q);
+
+  IntervalSolution solution;
+  solution.solved = true;
+  solution.counts.assign(edges, kInvalidIndex);
+  solution.mapped.assign(problem.four_sided.size(), 0);
+  solution.polar.assign(problem.polar.size(), 0);
+  solution.chord_segments.resize(problem.polar.size());
+  for (std::size_t q = 0; q < problem.polar.size(); ++q)
+    solution.chord_segments[q].assign(problem.polar[q].sides.size(), 1);
+  for (std::size_t c = 0; c < clusters.size(); ++c) {
+    IntervalProblem sub;
+    std::vector<Index> local(edges, kInvalidIndex);
+    std::vector<Index> global;
+    const auto use = [&](Index e) {
+      if (local[e] == kInvalidIndex) {
+        local[e] = static_cast<Index>(global.size());
+        global.push_back(e);
+        sub.ideal.push_back(problem.ideal[e]);
+        sub.minimum.push_back(problem.minimum[e]);
+        const Index fixed = problem.fixed.empty() ? kInvalidIndex : problem.fixed[e];
+        sub.fixed.push_back(solution.counts[e] != kInvalidIndex ? solution.counts[e] : fixed);
+      }
+      return local[e];
+    };
+    const auto remap = [&](const std::vector<Index>& list) {
+      std::vector<Index> out;
+      for (const Index e : list) out.push_back(use(e));
+      return out;
+    };
+    for (const std::size_t part : clusters[c])
+      for (const std::size_t row : part_rows[part]) {
+        sub.part_edges.push_back(remap(problem.part_edges[row]));
+        sub.part_ids.push_back(part);
+      }
+    std::vector<std::size_t> four_index(problem.four_sided.size(), SIZE_MAX);
+    for (const std::size_t f : cluster_four[c]) {
+      four_index[f] = sub.four_sided.size();
+      IntervalProblem::FourSided four{problem.four_sided[f].part, {}};
+      for (int side = 0; side < 4; ++side) four.sides[side] = remap(problem.four_sided[f].sides[side]);
+      sub.four_sided.push_back(std::move(four));
+    }
+    std::vector<std::size_t> polar_index(problem.polar.size(), SIZE_MAX);
+    for (const std::size_t q : cluster_polar[c]) {
+      polar_index[q] = sub.polar.size();
+      IntervalProblem::Polar blocks = problem.polar[q];
+      for (auto& side : blocks.sides) side = remap(side);
+      sub.polar.push_back(std::move(blocks));
+    }
+    for (const auto& [f, q] : problem.exclusive)
+      if (four_index[f] != SIZE_MAX && polar_index[q] != SIZE_MAX)
+        sub.exclusive.emplace_back(four_index[f], polar_index[q]);
+    const IntervalSolution part = solve_whole(sub);
+    for (std::size_t k = 0; k < global.size(); ++k) {
+      const Index e = global[k];
+      if (solution.counts[e] != kInvalidIndex) continue;
+      if (part.solved) {
+        solution.counts[e] = part.counts[k];
+      } else {
+        const Index fixed = sub.fixed[k];
+        solution.counts[e] =
+            fixed != kInvalidIndex
+                ? fixed
+                : std::max(problem.minimum[e], static_cast<Index>(std::max(1.0, std::round(problem.ideal[e]))));
+      }
+    }
+    if (!part.solved) continue;
+    for (const std::size_t f : cluster_four[c]) solution.mapped[f] = part.mapped[four_index[f]];
+    for (const std::size_t q : cluster_polar[c]) {
+      solution.polar[q] = part.polar[polar_index[q]];
+      solution.chord_segments[q] = part.chord_segments[polar_index[q]];
+    }
+  }
   return solution;
 }
 

@@ -16,8 +16,13 @@ namespace structmesh::quad2d {
 struct IntervalProblem {
   std::vector<double> ideal;   ///< per edge: length / size
   std::vector<Index> minimum;  ///< per edge: the smallest allowed count (>= 1)
+  /// Per edge: a count fixed in advance (kInvalidIndex or an empty vector: free).
+  std::vector<Index> fixed;
   /// Per part: its edges (each once per loop it bounds); the counts must sum to an even number.
   std::vector<std::vector<Index>> part_edges;
+  /// Per part_edges entry: the partition part it belongs to (entries of one part may
+  /// repeat); empty: entry i is part i. Groups the entries for the clustered solve.
+  std::vector<std::size_t> part_ids;
   struct FourSided {
     std::size_t part = 0;
     std::array<std::vector<Index>, 4> sides;  ///< edges of each side, in loop order
@@ -51,6 +56,18 @@ struct IntervalSolution {
 /// whose block counts hold, subject to the even
 /// parity of every part (an MILP solved by COIN-OR CBC with a node limit, so the
 /// answer does not depend on the machine's speed).
+///
+/// When the whole problem has no integer solution within the node limit (plain branch
+/// and bound found none from about 200 parts on: the Key at 2M quads in 256 or 1024
+/// parts got no structured block at all) and it has more than 24 parts, it is solved
+/// in clusters of up to 24 neighbouring parts (breadth-first over parts sharing edges,
+/// from the lowest part id), one after the other, each with the edges that earlier
+/// clusters decided fixed. A cluster without a solution keeps the rounded counts and no
+/// block, and the parity of its parts is left to the caller (`solved` is still true).
 IntervalSolution solve_interval_assignment(const IntervalProblem& problem);
+
+/// The clustered solve above with clusters of up to `cluster_parts` parts (exposed for
+/// tests). InputError for zero.
+IntervalSolution solve_interval_assignment_in_clusters(const IntervalProblem& problem, std::size_t cluster_parts);
 
 }  // namespace structmesh::quad2d

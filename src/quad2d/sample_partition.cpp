@@ -815,12 +815,14 @@ SampledPartition sample_partition(const Partition& partition, double size, bool 
       compact.four_sided.push_back({four.part, {}});
       for (int side = 0; side < 4; ++side) compact.four_sided.back().sides[side] = remap(four.sides[side]);
       compact.part_edges.push_back(remap(problem.part_edges[four.part]));
+      compact.part_ids.push_back(four.part);
     }
     for (const auto& blocks : problem.polar) {
       quad2d::IntervalProblem::Polar mapped{blocks.part, {}, blocks.chord_ideal};
       for (const auto& side : blocks.sides) mapped.sides.push_back(remap(side));
       compact.polar.push_back(std::move(mapped));
       compact.part_edges.push_back(remap(problem.part_edges[blocks.part]));
+      compact.part_ids.push_back(blocks.part);
     }
     compact.exclusive = problem.exclusive;
     assignment = quad2d::solve_interval_assignment(compact);

@@ -177,6 +177,40 @@ TEST(IntervalAssignment, TrapezoidTakesItsPolarAlternativeAndNeverBoth) {
   EXPECT_FALSE(square.mapped[0] && square.polar[0]) << "both blocks rewarded";
 }
 
+TEST(IntervalAssignment, ClustersOfARowOfSquaresAgreeOnSharedEdges) {
+  // 30 squares in a row: edges 3i (bottom of square i), 3i+1 (top), 3i+2 (the left
+  // side, shared with square i-1's right side), 90 (the last right side). Ideal lengths
+  // wobble so that matching needs changes; solved in clusters of 4 squares, every
+  // square must still come out a grid, and shared edges have one count.
+  quad2d::IntervalProblem problem;
+  const std::size_t n = 30;
+  problem.ideal.assign(3 * n + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    problem.ideal[3 * i] = 10 + 0.3 * static_cast<double>(i % 3);
+    problem.ideal[3 * i + 1] = 10.4 - 0.2 * static_cast<double>(i % 2);
+    problem.ideal[3 * i + 2] = 8 + 0.25 * static_cast<double>(i % 4);
+  }
+  problem.ideal[3 * n] = 8.6;
+  problem.minimum.assign(problem.ideal.size(), 1);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Index bottom = static_cast<Index>(3 * i), top = bottom + 1, left = bottom + 2;
+    const Index right = i + 1 < n ? static_cast<Index>(3 * (i + 1) + 2) : static_cast<Index>(3 * n);
+    problem.part_edges.push_back({bottom, right, top, left});
+    problem.four_sided.push_back({i, {{{bottom}, {right}, {top}, {left}}}});
+  }
+  const quad2d::IntervalSolution s = quad2d::solve_interval_assignment_in_clusters(problem, 4);
+  ASSERT_TRUE(s.solved);
+  ASSERT_EQ(s.counts.size(), problem.ideal.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    SCOPED_TRACE(i);
+    EXPECT_EQ(s.mapped[i], 1);
+    const auto& e = problem.part_edges[i];
+    EXPECT_EQ(s.counts[e[0]], s.counts[e[2]]);
+    EXPECT_EQ(s.counts[e[1]], s.counts[e[3]]);
+  }
+  EXPECT_THROW(quad2d::solve_interval_assignment_in_clusters(problem, 0), InputError);
+}
+
 TEST(PolarMesh, UnevenBlocksArePolishedTogether) {
   // A scalene triangle whose long side bends outward at its split point, meshed as
   // three polar blocks: with straight chords to the centroid the blocks' worst corner
