@@ -270,9 +270,10 @@ struct Quad2dSetup {
 Quad2dSetup setup_quad2d(const Polygon2& region, const Quad2dOptions& options, std::size_t processes = 1);
 
 /// Predicted meshing work of a part, in units of one paved quad: its expected quad
-/// count (area / size²), times kBlockWorkFactor when it is a structured or polar
-/// block candidate (measured: a mapped part costs about a tenth of a paved one of the
-/// same area). Orders the threads' parts and assigns parts to MPI ranks.
+/// count (area / size²), times kBlockWorkFactor when it is a structured grid candidate
+/// (measured: a mapped part costs about a tenth of a paved one of the same area; polar
+/// parts, polished as a whole, cost about as much as paved ones). Orders the threads' parts and assigns parts to MPI
+/// ranks.
 inline constexpr double kBlockWorkFactor = 0.15;
 double predicted_part_work(const Quad2dSetup& setup, std::size_t part);
 

@@ -180,7 +180,9 @@ double predicted_part_work(const Quad2dSetup& setup, std::size_t part) {
   const double quads = setup.partition.part_areas[part] / (setup.size * setup.size);
   const bool polar = !sampled.part_polar.empty() && !sampled.part_polar[part].corners.empty();
   const bool mapped = !sampled.part_corners.empty() && sampled.part_corners[part][0] >= 0;
-  return polar || mapped ? kBlockWorkFactor * quads : quads;
+  // Polar parts are polished as a whole (untangle_quads), which costs about as much as
+  // paving them; only grids are cheap.
+  return mapped && !polar ? kBlockWorkFactor * quads : quads;
 }
 
 Quad2dResult mesh_region_quads(const Polygon2& region, const Quad2dOptions& options) {

@@ -23,8 +23,10 @@
 namespace structmesh::paving {
 namespace {
 
-constexpr int kMaxInner = 300;
 constexpr int kPolishSteps = 3;
+// L-BFGS iterations per polish step: 100 gave the Key's parts the same results as 300
+// in two thirds of the time.
+constexpr int kPolishIterations = 100;
 constexpr Index kPolishLimit = 20000;
 
 double chi(double eps, double det) {
@@ -42,8 +44,8 @@ struct Corner {
 }  // namespace
 
 UntangleResult untangle_quads(std::vector<Vec2>& points, std::span<const std::array<Index, 4>> quads,
-                              std::span<const Index> free, double size, int max_steps,
-                              const CornerEnergy& energy_kind) {
+                              std::span<const Index> free, double size, int max_steps, const CornerEnergy& energy_kind,
+                              int max_iterations) {
   const double beta = energy_kind.legs, theta = energy_kind.area;
   UntangleResult result;
   if (free.empty() || !(size > 0)) return result;
@@ -117,7 +119,7 @@ UntangleResult untangle_quads(std::vector<Vec2>& points, std::span<const std::ar
   param.epsilon_rel = 0;
   param.past = 2;
   param.delta = 1e-7;
-  param.max_iterations = kMaxInner;
+  param.max_iterations = max_iterations;
   param.linesearch = LBFGSpp::LBFGS_LINESEARCH_BACKTRACKING_WOLFE;
   param.max_linesearch = 40;
   LBFGSpp::LBFGSSolver<double, LBFGSpp::LineSearchBacktracking> solver(param);
@@ -201,8 +203,8 @@ double polish_quads(std::vector<Vec2>& points, std::span<const std::array<Index,
   // A few continuation steps: what they do not fix, the part's fallback (paving) will.
   // A folded start is untangled with the conformal energy first (an energy with a
   // small leg weight alone leaves folds in place: measured on the Key's polar parts).
-  if (!(before.min > 0)) untangle_quads(points, quads, free, size, kPolishSteps, kConformalEnergy);
-  untangle_quads(points, quads, free, size, kPolishSteps, energy);
+  if (!(before.min > 0)) untangle_quads(points, quads, free, size, kPolishSteps, kConformalEnergy, kPolishIterations);
+  untangle_quads(points, quads, free, size, kPolishSteps, energy, kPolishIterations);
   const QualitySummary after = summarize(points, quads);
   // Kept when the worst quad improves, or when the mean does without the worst
   // falling below both its old value and the threshold.

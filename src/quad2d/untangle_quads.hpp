@@ -41,12 +41,12 @@ struct UntangleResult {
 /// Moves the points listed in `free` (and no other) to make the quads that touch them
 /// valid. Quads whose first index is kInvalidIndex are skipped. `size` is the target
 /// edge length: each quad corner is compared with a right angle of legs `size`.
-/// At most `max_steps` continuation steps of up to 300 L-BFGS iterations each.
+/// At most `max_steps` continuation steps of up to `max_iterations` L-BFGS iterations each.
 /// Deterministic. When no valid placement is found the points are left where the best
 /// attempt put them (the caller checks `valid` and falls back to remeshing).
 UntangleResult untangle_quads(std::vector<Vec2>& points, std::span<const std::array<Index, 4>> quads,
                               std::span<const Index> free, double size, int max_steps = 80,
-                              const CornerEnergy& energy = kConformalEnergy);
+                              const CornerEnergy& energy = kConformalEnergy, int max_iterations = 300);
 
 /// The smallest scaled Jacobian of the quads (Verdict's quad measure, +z reference);
 /// quads whose first index is kInvalidIndex are skipped; +inf for none.
