@@ -220,6 +220,10 @@ bool Paver::untangle_inverted() {
     for (const auto& q : mesh_.quads)
       if (q[0] != kInvalidIndex && inverted(q)) zone.insert(zone.end(), q.begin(), q.end());
     if (zone.empty()) return true;
+    // A point of several inverted quads is listed once (untangle_quads takes each free
+    // point as one variable).
+    std::sort(zone.begin(), zone.end());
+    zone.erase(std::unique(zone.begin(), zone.end()), zone.end());
     std::vector<std::uint8_t> in_zone(mesh_.points.size(), 0);
     for (const Index v : zone) in_zone[v] = 1;
     std::size_t begin = 0;
