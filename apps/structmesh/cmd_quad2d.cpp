@@ -82,7 +82,8 @@ nlohmann::json report_json(const Quad2dResult& result, const Quad2dSettings& set
             {"mapped_parts", r.paving.mapped},
             {"polar_parts", r.paving.polar},
             {"retried_parts", r.paving.retries},
-            {"cleanup_operations", r.paving.cleanup_operations}}},
+            {"cleanup_operations", r.paving.cleanup_operations},
+            {"grid_interior_quads", r.paving.grid_interior_quads}}},
           {"relax",
            {{"zone_vertices", r.relax.moved_vertices},
             {"refused_moves", r.relax.rejected_moves},
@@ -132,7 +133,13 @@ Action add_quad2d_command(CLI::App& command, const GlobalOptions& global) {
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   command.add_flag("!--no-blocks", o.blocks,
-                   "Pave every part (the dissertation's mesher) instead of structured blocks where they fit");
+                   "Pave every part whole (the dissertation's mesher) instead of structured blocks and grid "
+                   "interiors where they fit");
+  command
+      .add_option("--grid-interior", o.paving.grid_interior_quads,
+                  "Parts of at least this many quads get a grid of squares inside, paving only along their "
+                  "boundary (0: pave whole parts)")
+      ->capture_default_str();
   command.add_option("--segments", settings->segments, "Boundary segments of the built-in key or pipe")
       ->check(CLI::Range(std::size_t{16}, std::size_t{200'000'000}));
   command.add_option("--polygon", settings->polygon, "Which polygon of a multi-polygon file: INDEX or largest");
@@ -159,6 +166,7 @@ Action add_quad2d_command(CLI::App& command, const GlobalOptions& global) {
     options.target_quads = settings->quads;
     options.partition.method = parse_method(settings->method);
     options.progress = global.progress;
+    if (!options.blocks) options.paving.grid_interior_quads = 0;  // the dissertation's paving of whole parts
     const Polygon2 region = load_region(settings->source, settings->segments, settings->polygon);
     if (settings->lonlat_output && region.coordinates != Polygon2::Coordinates::LonLat)
       throw InputError("--lonlat-output needs a lon/lat region; " + settings->source + " is planar");

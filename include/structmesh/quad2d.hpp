@@ -32,6 +32,10 @@ struct PavingOptions {
   /// Smoothing sweeps after every row and at the end (interior vertices only).
   int smoothing_iterations = 3;
   int final_smoothing_iterations = 20;
+  /// A part of at least this many expected quads (area / size²) gets a structured grid
+  /// of squares in its interior and is paved only in a band along its boundary (paving
+  /// is ~90k quads/s per core, the grid millions); 0 paves every part whole.
+  std::size_t grid_interior_quads = 20000;
 };
 
 struct PavingStats {
@@ -49,6 +53,8 @@ struct PavingStats {
   std::size_t retries = 0;
   /// Topological cleanup after paving (edge rotations, diagonal collapses, doublets).
   std::size_t cleanup_operations = 0;
+  /// Quads of the structured grid inside a large part (pave_with_grid_interior).
+  std::size_t grid_interior_quads = 0;
 };
 
 struct PavedPart {

@@ -223,6 +223,7 @@ Quad2dResult mesh_region_quads(const Polygon2& region, const Quad2dOptions& opti
     report.paving.polar += part.stats.polar;
     report.paving.retries += part.stats.retries;
     report.paving.cleanup_operations += part.stats.cleanup_operations;
+    report.paving.grid_interior_quads += part.stats.grid_interior_quads;
   }
   paved.clear();
   paved.shrink_to_fit();

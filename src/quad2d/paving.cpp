@@ -9,6 +9,7 @@
 // holds the input points first. A run that still fails is repeated with a slightly
 // different target size (up to 8 sizes, 0.7 to 1.25 times it) before an Error is thrown.
 #include "quad2d/paving.hpp"
+#include "quad2d/grid_interior.hpp"
 #include "quad2d/quad_cleanup.hpp"
 #include "quad2d/untangle_quads.hpp"
 
@@ -320,9 +321,7 @@ PavedPart Paver::run() {
   return part;
 }
 
-}  // namespace paving
-
-PavedPart pave(const Polygon2& boundary, const PavingOptions& options) {
+PavedPart pave_whole(const Polygon2& boundary, const PavingOptions& options, bool polish) {
   // The worst quad that the block meshers accept (MappedMeshOptions); a paved part
   // below it is polished.
   constexpr double kPolishBelow = 0.6;
@@ -346,7 +345,7 @@ PavedPart pave(const Polygon2& boundary, const PavingOptions& options) {
       part.stats.cleanup_operations = cleanup.swaps + cleanup.collapses + cleanup.doublets;
       // A part whose worst quad is poor (a row squeezed between fronts) gets the
       // angle polish of its free points; kept only if the worst quad improves.
-      if (paving::min_scaled_jacobian(part.points, part.quads) < kPolishBelow)
+      if (polish && paving::min_scaled_jacobian(part.points, part.quads) < kPolishBelow)
         paving::polish_quads(part.points, part.quads, static_cast<Index>(boundary.points.size()), paver.size(),
                              kPolishBelow, paving::kConformalEnergy);
       return part;
@@ -366,6 +365,15 @@ PavedPart pave(const Polygon2& boundary, const PavingOptions& options) {
     }
   }
   throw Error(first_error + " (and with target sizes from 0.7 to 1.25 times it)");
+}
+
+}  // namespace paving
+
+PavedPart pave(const Polygon2& boundary, const PavingOptions& options) {
+  if (options.grid_interior_quads > 0 && options.size > 0 && boundary.ring_count() > 0 &&
+      std::abs(area(boundary)) >= static_cast<double>(options.grid_interior_quads) * options.size * options.size)
+    if (std::optional<PavedPart> part = paving::pave_with_grid_interior(boundary, options)) return std::move(*part);
+  return paving::pave_whole(boundary, options, true);
 }
 
 }  // namespace structmesh

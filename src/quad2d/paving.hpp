@@ -164,6 +164,10 @@ struct Slot {
   Index id = kInvalidIndex;  // front node, or planned point
 };
 
+/// pave() without the grid interior: paving, retries at other sizes, cleanup, and (if
+/// `polish`) the polish of a part whose worst quad is below 0.6.
+PavedPart pave_whole(const Polygon2& boundary, const PavingOptions& options, bool polish);
+
 class Paver {
  public:
   Paver(const Polygon2& boundary, const PavingOptions& options);

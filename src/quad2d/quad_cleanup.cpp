@@ -391,7 +391,7 @@ class Cleaner {
 
   /// Smooths the movable points `pts` (sorted) and returns the worst quad touching
   /// them or the changed quads.
-  double settle(const std::vector<Index>& pts, const std::vector<Index>& changed) {
+  double settle(const std::vector<Index>& pts, const std::vector<Index>& changed, double floor) {
     for (int sweep = 0; sweep < 8; ++sweep)
       for (const Index p : pts) move(p, laplacian_target(p));
     auto worst = [&] {
@@ -403,12 +403,15 @@ class Cleaner {
       return w;
     };
     double w = worst();
-    if (w >= 0.5) return w;
+    // Optimise only when the Laplacian did not already reach what the caller needs: a
+    // zone whose worst quad was poor before (at a jagged boundary) used to be
+    // optimised at every one of its attempts.
+    if (w >= 0.5 || w >= floor) return w;
     for (int round = 0; round < 3; ++round) {
       for (const Index p : pts) {
         double around = 2;
         for (const Index id : quads_of(p)) around = std::min(around, quality(id));
-        if (around < 0.5) optimize(p);
+        if (around < std::min(floor, 0.5)) optimize(p);  // only what holds the attempt back
       }
       w = worst();
     }
@@ -593,7 +596,7 @@ class Cleaner {
     bool ok = false;
     for (const bool ring : {false, true}) {
       collect(changed_, ring, pts_);
-      const double after = settle(pts_, changed_);
+      const double after = settle(pts_, changed_, floor);
       if (after > 0 && after >= floor) {
         ok = true;
         break;

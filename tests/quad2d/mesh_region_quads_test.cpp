@@ -102,6 +102,10 @@ TEST_P(RealCoastline, MeshesWithoutAnInvertedQuad) {
   const std::size_t boundary_edges = expect_valid_conforming(result);
   EXPECT_GT(boundary_edges, 0u);
   EXPECT_GT(result.report.quads, GetParam().quads * 8 / 10);
+  // Parts of 40k quads (twice PavingOptions::grid_interior_quads) get a grid inside.
+  if (GetParam().quads / GetParam().parts >= 40000) {
+    EXPECT_GT(result.report.paving.grid_interior_quads, 0u);
+  }
   // The mesh covers the filtered region: its boundary samples are chords of the
   // coast, so the areas agree to a small fraction.
   EXPECT_NEAR(result.report.mesh_area, result.report.region_area, 2e-3 * result.report.region_area);
@@ -110,6 +114,8 @@ TEST_P(RealCoastline, MeshesWithoutAnInvertedQuad) {
 
 INSTANTIATE_TEST_SUITE_P(Regions, RealCoastline,
                          ::testing::Values(CoastCase{"gulf_of_mexico.geojson", 100000, 8},
+                                           // 50k quads per part: grid interiors.
+                                           CoastCase{"gulf_of_mexico.geojson", 100000, 2},
                                            // 16 parts: one part paves with a folded zone
                                            // that untangle_quads() repairs.
                                            CoastCase{"gulf_of_mexico.geojson", 100000, 16},

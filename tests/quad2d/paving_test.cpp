@@ -415,6 +415,94 @@ TEST(Paving, Deterministic) {
   }
 }
 
+// ---- grid interior (pave_with_grid_interior): large parts get a grid of squares inside
+// and paving only along their boundary.
+
+/// Quads of the part that are squares of edge h (the grid's quads, up to rounding).
+std::size_t square_quads(const PavedPart& part, double h) {
+  std::size_t count = 0;
+  for (const auto& q : part.quads) {
+    bool square = true;
+    for (int j = 0; j < 4 && square; ++j) {
+      const Vec2 e = part.points[q[(j + 1) % 4]] - part.points[q[j]];
+      const Vec2 f = part.points[q[(j + 2) % 4]] - part.points[q[(j + 1) % 4]];
+      square = std::abs(e.norm() - h) < 1e-9 * h && std::abs(e.dot(f)) < 1e-9 * h * h;
+    }
+    count += square ? 1 : 0;
+  }
+  return count;
+}
+
+TEST(GridInterior, LargeDiskIsAGridInsideAPavedBand) {
+  // 1000 boundary points at unit spacing: about 80k quads, above the 20k threshold.
+  const Polygon2 poly = ring_polygon(circle(1000, 1000 / (2 * std::numbers::pi)));
+  const PavedPart part = pave(poly, {.size = 1.0});
+  const Measured m = check_paved(poly, part);
+  report("grid interior disk", m, part);
+  EXPECT_GT(part.stats.grid_interior_quads, m.quads * 8 / 10);
+  // The interior quads are exact squares (the seam relaxation moves only three rings).
+  EXPECT_GE(square_quads(part, 1.0), part.stats.grid_interior_quads * 9 / 10);
+  EXPECT_GT(m.min, 0.5);
+  EXPECT_GT(m.avg, 0.98);
+  // Quads of size h: their count is the area / h² (paving's rows drift smaller).
+  EXPECT_NEAR(static_cast<double>(m.quads), area(poly), 0.02 * area(poly));
+
+  // Off: the same disk paved whole; no square grid, and twice the singular vertices.
+  const PavedPart whole = pave(poly, {.size = 1.0, .grid_interior_quads = 0});
+  const Measured w = check_paved(poly, whole);
+  report("same disk paved whole", w, whole);
+  EXPECT_EQ(whole.stats.grid_interior_quads, 0u);
+  EXPECT_LT(2 * m.singular, w.singular);
+}
+
+TEST(GridInterior, IslandsInsideTheGridWithOddAndEvenPointCounts) {
+  // Two islands of 81 points each (odd: their bands alone could not be all-quad, so a
+  // corridor joins them to the outer band) and one of 80 (paved on its own).
+  const double r = 1200 / (2 * std::numbers::pi);
+  const Polygon2 poly = ring_polygon(circle(1200, r), {circle(81, 81 / (2 * std::numbers::pi), {-90, 0}, true),
+                                                       circle(81, 81 / (2 * std::numbers::pi), {90, 0}, true),
+                                                       circle(80, 80 / (2 * std::numbers::pi), {0, 90}, true)});
+  ASSERT_EQ(poly.points.size() % 2, 0u);
+  const PavedPart part = pave(poly, {.size = 1.0});
+  const Measured m = check_paved(poly, part);
+  report("grid interior islands", m, part);
+  EXPECT_GT(part.stats.grid_interior_quads, m.quads / 2);
+  EXPECT_GT(m.min, 0.3);
+  EXPECT_GT(m.avg, 0.95);
+}
+
+TEST(GridInterior, NoisyCoastWithIslandGetsAGrid) {
+  const double h = 2 * std::numbers::pi * 300 / 1800;
+  const Polygon2 poly =
+      ring_polygon(wobbly(1800, 300, 11, 0.25, 0.01), {wobbly(120, 30, 12, 0.15, 0.01, {60, 40}, true)});
+  const PavedPart part = pave(poly, {.size = h});
+  const Measured m = check_paved(poly, part);
+  report("grid interior coast", m, part);
+  EXPECT_GT(part.stats.grid_interior_quads, m.quads / 2);
+  EXPECT_GT(m.min, 0.2);
+  EXPECT_GT(m.avg, 0.95);
+}
+
+TEST(GridInterior, StripTooThinForAGridIsPavedWhole) {
+  // 25k quads of area but only 5 elements wide: no cell is far enough from the boundary.
+  const Polygon2 poly = ring_polygon(rectangle(5000, 5));
+  const PavedPart part = pave(poly, {.size = 1.0});
+  const Measured m = check_paved(poly, part);
+  EXPECT_EQ(part.stats.grid_interior_quads, 0u);
+  EXPECT_EQ(m.quads, 25000u);
+  EXPECT_NEAR(m.min, 1.0, 1e-9);
+}
+
+TEST(GridInterior, Deterministic) {
+  const Polygon2 poly = ring_polygon(wobbly(1000, 170, 5, 0.3, 0.02), {wobbly(80, 15, 6, 0.1, 0.0, {30, 20}, true)});
+  const double h = 1.0;
+  const PavedPart a = pave(poly, {.size = h}), b = pave(poly, {.size = h});
+  EXPECT_GT(a.stats.grid_interior_quads, 0u);
+  ASSERT_EQ(a.quads, b.quads);
+  ASSERT_EQ(a.points.size(), b.points.size());
+  for (std::size_t i = 0; i < a.points.size(); ++i) EXPECT_EQ(a.points[i], b.points[i]);
+}
+
 TEST(Paving, KeyRegionIn32Parts) {
   const Polygon2 key = make_key_region(2000);
   double perimeter = 0;
