@@ -568,6 +568,10 @@ int run_ranks(const MpiSession& mpi, const Quad2dSettings& settings, const Quad2
       stage_json[name] = seconds;
       if (name == "total") total = seconds;
     }
+    // The same lines in the same order as without MPI (cmd_quad2d.cpp).
+    if (!setup.partition.projection.empty()) say(global, "lon/lat input meshed in " + setup.partition.projection);
+    if (const std::string filter = coastline_filter_summary(setup.partition.simplification); !filter.empty())
+      say(global, filter);
     char line[256];
     std::snprintf(line, sizeof line, "%.0f quads in %zu parts on %d ranks (size %.6g), %.2f s, %.0f quads/s", count,
                   parts, ranks, setup.size, total, total > 0 ? count / total : 0.0);
@@ -577,8 +581,6 @@ int run_ranks(const MpiSession& mpi, const Quad2dSettings& settings, const Quad2
     std::snprintf(line, sizeof line, "  inverted %llu, singular vertices %llu, area %.8g (region %.8g)", total_inverted,
                   total_singular, total_area, setup.partition.metrics.region_area);
     say(global, line);
-    if (const std::string filter = coastline_filter_summary(setup.partition.simplification); !filter.empty())
-      say(global, filter);
     for (const std::string& output : settings.outputs) say(global, "wrote " + output);
     for (const std::string& output : settings.merged_outputs) say(global, "wrote " + output);
     nlohmann::json report = {

@@ -33,8 +33,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <numeric>
+#include <span>
 #include <utility>
+#include <vector>
 
 namespace structmesh::paving {
 
@@ -78,17 +79,17 @@ double dominant_direction(const Polygon2& boundary) {
   return 0.25 * std::atan2(s4, c4);
 }
 
-/// Keeps the largest 4-connected set of cells with keep = 1; returns its size.
-std::size_t keep_largest_component(const Lattice& L, std::vector<std::uint8_t>& keep) {
-  std::vector<std::int32_t> label(keep.size(), -1);
-  std::vector<std::size_t> stack;
-  std::int32_t best = -1;
-  std::size_t best_size = 0;
-  std::int32_t next = 0;
+/// Labels the 4-connected sets of cells whose flag is `value` 0, 1, 2, ... in the
+/// row-major order of their first cell (-1 for the other cells); returns their sizes.
+std::vector<std::size_t> label_sets(const Lattice& L, const std::vector<std::uint8_t>& keep, std::uint8_t value,
+                                    std::vector<std::int32_t>& label) {
+  label.assign(keep.size(), -1);
+  std::vector<std::size_t> sizes, stack;
   for (std::size_t c = 0; c < keep.size(); ++c) {
-    if (!keep[c] || label[c] >= 0) continue;
+    if (keep[c] != value || label[c] >= 0) continue;
+    const auto id = static_cast<std::int32_t>(sizes.size());
     std::size_t size = 0;
-    label[c] = next;
+    label[c] = id;
     stack.push_back(c);
     while (!stack.empty()) {
       const std::size_t at = stack.back();
@@ -101,20 +102,24 @@ std::size_t keep_largest_component(const Lattice& L, std::vector<std::uint8_t>& 
         const std::int64_t a = i + di[k], b = j + dj[k];
         if (a < 0 || b < 0 || a >= L.nx || b >= L.ny) continue;
         const std::size_t n = L.cell(a, b);
-        if (keep[n] && label[n] < 0) {
-          label[n] = next;
+        if (keep[n] == value && label[n] < 0) {
+          label[n] = id;
           stack.push_back(n);
         }
       }
     }
-    if (size > best_size) {
-      best_size = size;
-      best = next;
-    }
-    ++next;
+    sizes.push_back(size);
   }
+  return sizes;
+}
+
+/// Keeps the largest 4-connected set of cells with keep = 1 (the first of equal ones).
+void keep_largest_component(const Lattice& L, std::vector<std::uint8_t>& keep) {
+  std::vector<std::int32_t> label;
+  const std::vector<std::size_t> sizes = label_sets(L, keep, 1, label);
+  if (sizes.empty()) return;
+  const auto best = static_cast<std::int32_t>(std::max_element(sizes.begin(), sizes.end()) - sizes.begin());
   for (std::size_t c = 0; c < keep.size(); ++c) keep[c] = keep[c] && label[c] == best;
-  return best_size;
 }
 
 /// Removes cells until the kept set's boundary is a set of simple lattice loops: no
@@ -153,34 +158,10 @@ bool remove_thin_cells(const Lattice& L, std::vector<std::uint8_t>& keep) {
 }
 
 /// Labels the 4-connected sets of empty cells: 0 for the one touching the lattice's
-/// border (the grid always has an empty border row), 1, 2, ... for the grid's holes.
+/// border (cell 0 is on the empty border row), 1, 2, ... for the grid's holes.
 std::vector<std::int32_t> label_empty(const Lattice& L, const std::vector<std::uint8_t>& keep, std::int32_t& count) {
-  std::vector<std::int32_t> label(keep.size(), -1);
-  std::vector<std::size_t> stack;
-  count = 0;
-  auto flood = [&](std::size_t start, std::int32_t id) {
-    label[start] = id;
-    stack.push_back(start);
-    while (!stack.empty()) {
-      const std::size_t at = stack.back();
-      stack.pop_back();
-      const auto i = static_cast<std::int64_t>(at % static_cast<std::size_t>(L.nx));
-      const auto j = static_cast<std::int64_t>(at / static_cast<std::size_t>(L.nx));
-      const std::int64_t di[4] = {1, -1, 0, 0}, dj[4] = {0, 0, 1, -1};
-      for (int k = 0; k < 4; ++k) {
-        const std::int64_t a = i + di[k], b = j + dj[k];
-        if (a < 0 || b < 0 || a >= L.nx || b >= L.ny) continue;
-        const std::size_t n = L.cell(a, b);
-        if (!keep[n] && label[n] < 0) {
-          label[n] = id;
-          stack.push_back(n);
-        }
-      }
-    }
-  };
-  flood(0, count++);  // cell (0, 0) is on the empty border
-  for (std::size_t c = 0; c < keep.size(); ++c)
-    if (!keep[c] && label[c] < 0) flood(c, count++);
+  std::vector<std::int32_t> label;
+  count = static_cast<std::int32_t>(label_sets(L, keep, 0, label).size());
   return label;
 }
 
@@ -256,15 +237,12 @@ std::optional<PavedPart> pave_with_grid_interior(const Polygon2& boundary, const
           std::max<std::int64_t>(0, static_cast<std::int64_t>(std::floor((std::min(a.y(), b.y()) - reach - L.v0) / h)));
       const auto j1 = std::min<std::int64_t>(
           L.ny - 1, static_cast<std::int64_t>(std::floor((std::max(a.y(), b.y()) + reach - L.v0) / h)));
-      const Vec2 d = b - a;
-      const double dd = d.squaredNorm();
       for (std::int64_t j = j0; j <= j1; ++j)
         for (std::int64_t i = i0; i <= i1; ++i) {
           const std::size_t c = L.cell(i, j);
           if (!keep[c]) continue;
           const Vec2 centre(L.u0 + (static_cast<double>(i) + 0.5) * h, L.v0 + (static_cast<double>(j) + 0.5) * h);
-          const double t = dd > 0 ? std::clamp((centre - a).dot(d) / dd, 0.0, 1.0) : 0.0;
-          if ((centre - (a + t * d)).squaredNorm() < reach * reach) keep[c] = 0;
+          if ((centre - closest_on_segment(centre, a, b)).squaredNorm() < reach * reach) keep[c] = 0;
         }
     }
   }
@@ -437,16 +415,8 @@ std::optional<PavedPart> pave_with_grid_interior(const Polygon2& boundary, const
   // kept only if the worst quad around the point gets no worse, so no quad folds and
   // the part's worst quad stays what paving gave (with the paver's floor of 0.5
   // instead, a Gulf part's worst quad fell from 0.66 to 0.51).
-  std::vector<Index> offsets(part.points.size() + 1, 0), incident;
-  for (const auto& q : part.quads)
-    for (const Index v : q) ++offsets[v + 1];
-  std::partial_sum(offsets.begin(), offsets.end(), offsets.begin());
-  incident.resize(offsets.back());
-  {
-    std::vector<Index> fill(offsets.begin(), offsets.end() - 1);
-    for (Index id = 0; id < part.quads.size(); ++id)
-      for (const Index v : part.quads[id]) incident[fill[v]++] = id;
-  }
+  const CompressedRows quads_of = build_vertex_elements(std::span<const std::array<Index, 4>>(part.quads),
+                                                        part.points.size());
   std::vector<std::uint8_t> in_zone(part.points.size(), 0);
   std::vector<Index> zone;
   for (Index p = 0; p < part.points.size(); ++p)
@@ -454,9 +424,8 @@ std::optional<PavedPart> pave_with_grid_interior(const Polygon2& boundary, const
   for (int ring = 0, begin = 0; ring < kSeamRings; ++ring) {
     const auto end = static_cast<int>(zone.size());
     for (int k = begin; k < end; ++k) {
-      const Index p = zone[static_cast<std::size_t>(k)];
-      for (Index e = offsets[p]; e < offsets[p + 1]; ++e)
-        for (const Index v : part.quads[incident[e]])
+      for (const Index id : quads_of.row(zone[static_cast<std::size_t>(k)]))
+        for (const Index v : part.quads[id])
           if (!in_zone[v] && v >= part_count) in_zone[v] = 1, zone.push_back(v);
     }
     begin = end;
@@ -464,8 +433,8 @@ std::optional<PavedPart> pave_with_grid_interior(const Polygon2& boundary, const
   std::sort(zone.begin(), zone.end());
   auto worst_around = [&](Index p) {
     double worst = 2;
-    for (Index e = offsets[p]; e < offsets[p + 1]; ++e) {
-      const auto& q = part.quads[incident[e]];
+    for (const Index id : quads_of.row(p)) {
+      const auto& q = part.quads[id];
       const auto& P = part.points;
       worst = std::min(worst, scaled_jacobian(P[q[0]], P[q[1]], P[q[2]], P[q[3]]));
     }
@@ -475,8 +444,8 @@ std::optional<PavedPart> pave_with_grid_interior(const Polygon2& boundary, const
     for (const Index p : zone) {
       Vec2 target(0, 0);
       int count = 0;
-      for (Index e = offsets[p]; e < offsets[p + 1]; ++e) {
-        const auto& q = part.quads[incident[e]];
+      for (const Index id : quads_of.row(p)) {
+        const auto& q = part.quads[id];
         int j = 0;
         while (q[j] != p) ++j;
         target += 0.5 * (part.points[q[(j + 1) % 4]] + part.points[q[(j + 3) % 4]]);
@@ -487,7 +456,8 @@ std::optional<PavedPart> pave_with_grid_interior(const Polygon2& boundary, const
       const Vec2 now = part.points[p];
       const double floor = worst_around(p);
       part.points[p] = target;
-      if (!(worst_around(p) >= floor && worst_around(p) > 0)) part.points[p] = now;
+      const double after = worst_around(p);
+      if (!(after >= floor && after > 0)) part.points[p] = now;
     }
   return part;
 }

@@ -73,7 +73,15 @@ inline double quad_area(const Vec2& p0, const Vec2& p1, const Vec2& p2, const Ve
 /// Do the closed segments ab and cd share a point? Exact orientation signs on the
 /// double inputs are not needed here: a near-touch counts as a touch (conservative).
 bool segments_intersect(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d);
-double point_segment_distance(const Vec2& p, const Vec2& a, const Vec2& b);
+/// The point of segment ab closest to p.
+inline Vec2 closest_on_segment(const Vec2& p, const Vec2& a, const Vec2& b) {
+  const Vec2 ab = b - a;
+  const double l2 = ab.squaredNorm();
+  return a + (l2 > 0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0) * ab;
+}
+inline double point_segment_distance(const Vec2& p, const Vec2& a, const Vec2& b) {
+  return (closest_on_segment(p, a, b) - p).norm();
+}
 
 /// The mesh being built: input points first, then new points; quads counter-clockwise.
 /// Point -> incident quads as singly linked records in flat arrays (quads are only

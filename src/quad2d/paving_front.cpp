@@ -36,13 +36,6 @@ bool segments_intersect(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2&
          (d4 == 0 && on_segment(a, b, d));
 }
 
-double point_segment_distance(const Vec2& p, const Vec2& a, const Vec2& b) {
-  const Vec2 ab = b - a;
-  const double l2 = ab.squaredNorm();
-  const double t = l2 > 0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
-  return (a + t * ab - p).norm();
-}
-
 // ---------------------------------------------------------------------------
 
 Index GrowingMesh::add_point(const Vec2& p) {

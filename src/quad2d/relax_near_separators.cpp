@@ -116,13 +116,16 @@ RelaxStats relax_piece(RelaxPiece& piece, const RelaxOptions& options, const Rel
     for (int k = 0; k < 4; ++k) corners[k] = position(quad[k]);
     return quad_scaled_jacobian(corners, &up);
   };
-  std::vector<Vec3> proposal(n);
-  std::vector<std::uint8_t> accepted(n);
+  // Only moving vertices ever get a proposal or move: the others keep proposal =
+  // position and accepted = 0 for good (resetting all n points in every sweep was a
+  // serial pass over the whole mesh, a fifth of the relaxation on the Key at 2M quads).
+  std::vector<Vec3> proposal(piece.points.begin(), piece.points.end());
+  std::vector<std::uint8_t> accepted(moving);
   std::vector<double> quality_before(zone_quads.size());
   std::size_t refused = 0;
   const double tolerance = 1e-9 * piece.size;
   for (int iteration = 0; iteration < options.iterations && stats.moved_vertices > 0; ++iteration) {
-    for (Index v = 0; v < n; ++v) proposal[v] = piece.points[v], accepted[v] = moving[v];
+    for (const Index v : moving_vertices) proposal[v] = piece.points[v], accepted[v] = 1;
     tbb::parallel_for(std::size_t{0}, zone.size(), [&](std::size_t i) {
       Vec3 sum = Vec3::Zero();
       const auto row = neighbours.row(i);

@@ -377,11 +377,7 @@ bool segments_meet(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
          !(o1 == 0 && o2 == 0);  // collinear overlaps of a degenerate pair are left to the meshers
 }
 
-Vec2 closest_on_segment(const Vec2& p, const Vec2& a, const Vec2& b) {
-  const Vec2 ab = b - a;
-  const double l2 = ab.squaredNorm();
-  return a + (l2 > 0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0) * ab;
-}
+using paving::closest_on_segment;
 
 // Closest points (on ab, on cd) of two segments that do not meet.
 std::pair<Vec2, Vec2> closest_points(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
