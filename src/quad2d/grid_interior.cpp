@@ -415,8 +415,8 @@ std::optional<PavedPart> pave_with_grid_interior(const Polygon2& boundary, const
   // kept only if the worst quad around the point gets no worse, so no quad folds and
   // the part's worst quad stays what paving gave (with the paver's floor of 0.5
   // instead, a Gulf part's worst quad fell from 0.66 to 0.51).
-  const CompressedRows quads_of = build_vertex_elements(std::span<const std::array<Index, 4>>(part.quads),
-                                                        part.points.size());
+  const CompressedRows quads_of =
+      build_vertex_elements(std::span<const std::array<Index, 4>>(part.quads), part.points.size());
   std::vector<std::uint8_t> in_zone(part.points.size(), 0);
   std::vector<Index> zone;
   for (Index p = 0; p < part.points.size(); ++p)
