@@ -66,14 +66,15 @@ struct CurvePlan {
   std::vector<Index> break_vertices;  // partition vertex at each break
   bool smoothed = false;
   /// Samples are the polyline's own vertices (a region boundary piece whose
-  /// resampling would cross something), plus the midpoint of segment
-  /// `extra_midpoint` when the count's parity has to stay.
+  /// resampling would cross something), each polyline edge split evenly into
+  /// edge_segments[i] segments (about its length / size, one more on the longest
+  /// when the count's parity has to stay).
   bool exact = false;
   /// Position in the curve's input vertices of each polyline vertex (a region
   /// boundary thinned by thinned_vertices holds only some of them; exact then means
   /// those).
   std::vector<std::size_t> source;
-  std::size_t extra_midpoint = std::numeric_limits<std::size_t>::max();
+  std::vector<Index> edge_segments;  // exact plans: per polyline edge
   std::vector<double> lengths;
   std::vector<Index> segments;
   bool closed = false;
@@ -317,8 +318,11 @@ Samples sample_positions(const CurvePlan& plan) {
       const bool on_break = next_break < plan.breaks.size() && plan.breaks[next_break] == i;
       out.points.push_back(plan.polyline[i]);
       out.break_of.push_back(on_break ? static_cast<std::int64_t>(next_break++) : -1);
-      if (i == plan.extra_midpoint) {
-        out.points.push_back(0.5 * (plan.polyline[i] + plan.polyline[i + 1]));
+      if (i + 1 == plan.polyline.size()) break;
+      const Index n = plan.edge_segments[i];
+      for (Index j = 1; j < n; ++j) {
+        const double t = static_cast<double>(j) / n;
+        out.points.push_back((1 - t) * plan.polyline[i] + t * plan.polyline[i + 1]);
         out.break_of.push_back(-1);
       }
     }
@@ -341,25 +345,33 @@ Samples sample_positions(const CurvePlan& plan) {
 
 // Turns a region boundary plan exact (its own vertices as samples), keeping the
 // parity of its total count so that no part's boundary becomes odd.
-void make_exact(CurvePlan& plan, Index before) {
+void make_exact(CurvePlan& plan, Index before, double size) {
+  // Input edges far longer than the size (the straight sides of a clipped region,
+  // a coast digitised coarsely) are split evenly: as single edges they left paving a
+  // boundary edge of up to 30 element sizes (Gulf of Mexico at 20M quads), which
+  // folded quads that nothing could untangle.
   plan.exact = true;
-  plan.extra_midpoint = std::numeric_limits<std::size_t>::max();
-  std::vector<Index> counts;
-  for (std::size_t piece = 0; piece + 1 < plan.breaks.size(); ++piece)
-    counts.push_back(static_cast<Index>(plan.breaks[piece + 1] - plan.breaks[piece]));
+  const std::size_t edges = plan.polyline.size() - 1;
+  plan.edge_segments.assign(edges, 1);
+  for (std::size_t i = 0; i < edges; ++i)
+    plan.edge_segments[i] =
+        static_cast<Index>(std::max(1.0, std::round((plan.polyline[i + 1] - plan.polyline[i]).norm() / size)));
   Index after = 0;
-  for (const Index n : counts) after += n;
+  for (const Index n : plan.edge_segments) after += n;
   if ((after - before) % 2 != 0) {
-    std::size_t longest = 0;
-    for (std::size_t i = 1; i + 1 < plan.polyline.size(); ++i)
-      if ((plan.polyline[i + 1] - plan.polyline[i]).squaredNorm() >
-          (plan.polyline[longest + 1] - plan.polyline[longest]).squaredNorm())
-        longest = i;
-    plan.extra_midpoint = longest;
-    const auto piece = static_cast<std::size_t>(std::upper_bound(plan.breaks.begin(), plan.breaks.end(), longest) -
-                                                plan.breaks.begin()) -
-                       1;
-    ++counts[piece];
+    std::size_t longest = 0;  // by the length of its segments
+    const auto segment_length = [&](std::size_t i) {
+      return (plan.polyline[i + 1] - plan.polyline[i]).norm() / static_cast<double>(plan.edge_segments[i]);
+    };
+    for (std::size_t i = 1; i < edges; ++i)
+      if (segment_length(i) > segment_length(longest)) longest = i;
+    ++plan.edge_segments[longest];
+  }
+  std::vector<Index> counts;
+  for (std::size_t piece = 0; piece + 1 < plan.breaks.size(); ++piece) {
+    Index count = 0;
+    for (std::size_t i = plan.breaks[piece]; i < plan.breaks[piece + 1]; ++i) count += plan.edge_segments[i];
+    counts.push_back(count);
   }
   plan.segments = counts;
 }
@@ -852,7 +864,7 @@ SampledPartition sample_partition(const Partition& partition, double size, bool 
       return break_at_every_vertex(plans[c], partition.curves[c].vertices);
     const Index before = total_segments(plans[c]);
     if (!plans[c].exact) {  // first the (thinned) polyline's own vertices
-      make_exact(plans[c], before);
+      make_exact(plans[c], before, size);
       return true;
     }
     // Then every input vertex along each stretch that still crosses: from the
@@ -868,13 +880,17 @@ SampledPartition sample_partition(const Partition& partition, double size, bool 
       }
     };
     if (segments.empty()) keep(0, source.size() - 1);
-    for (std::size_t k : segments) {
-      if (plans[c].extra_midpoint != std::numeric_limits<std::size_t>::max() && k > plans[c].extra_midpoint) --k;
+    // Sample segment -> polyline edge (an exact plan splits long edges).
+    std::vector<std::size_t> edge_of;
+    for (std::size_t i = 0; i < plans[c].edge_segments.size(); ++i)
+      edge_of.insert(edge_of.end(), plans[c].edge_segments[i], i);
+    for (const std::size_t segment : segments) {
+      const std::size_t k = segment < edge_of.size() ? edge_of[segment] : segment;
       keep(k > 0 ? k - 1 : 0, std::min(k + 2, source.size() - 1));
     }
     if (!added) return false;
     plans[c] = plan_curve(partition, partition.curves[c], size, false, &mask);
-    make_exact(plans[c], before);
+    make_exact(plans[c], before, size);
     return true;
   };
   for (int round = 0; round < 32; ++round) {
