@@ -44,6 +44,18 @@ std::size_t expect_valid_conforming(const Quad2dResult& result) {
   return boundary;
 }
 
+// The longest region boundary edge of the mesh, in element sizes.
+double longest_boundary_edge(const Quad2dResult& result) {
+  const QuadMesh& mesh = result.merged.mesh;
+  std::map<std::pair<Index, Index>, int> edges;
+  for (const auto& q : mesh.quads)
+    for (int j = 0; j < 4; ++j) ++edges[{std::min(q[j], q[(j + 1) % 4]), std::max(q[j], q[(j + 1) % 4])}];
+  double longest = 0;
+  for (const auto& [edge, count] : edges)
+    if (count == 1) longest = std::max(longest, (mesh.points[edge.first] - mesh.points[edge.second]).norm());
+  return longest / result.merged.size;
+}
+
 TEST(MeshRegionQuads, ACreekNarrowerThanAnElementIsClosedAndTheRestMeshed) {
   // A 10 x 10 basin with a dead-end creek 0.1 wide and 3 deep, meshed at size 0.5:
   // the creek is closed before partitioning and the basin is meshed whole.
@@ -101,6 +113,9 @@ TEST_P(RealCoastline, MeshesWithoutAnInvertedQuad) {
   const Quad2dResult result = mesh_region_quads(region, options);
   const std::size_t boundary_edges = expect_valid_conforming(result);
   EXPECT_GT(boundary_edges, 0u);
+  // Coast stretches that follow their input vertices split long input edges (the
+  // Gulf's straight box sides were single edges of up to 30 element sizes).
+  EXPECT_LT(longest_boundary_edge(result), 3.0);
   EXPECT_GT(result.report.quads, GetParam().quads * 8 / 10);
   // Parts of 40k quads (twice PavingOptions::grid_interior_quads) get a grid inside.
   if (GetParam().quads / GetParam().parts >= 40000) {
