@@ -406,12 +406,12 @@ class Cleaner {
     // Optimise only when the Laplacian did not already reach what the caller needs: a
     // zone whose worst quad was poor before (at a jagged boundary) used to be
     // optimised at every one of its attempts.
-    if (w >= 0.5 || w >= floor) return w;
+    if (w >= floor) return w;  // floor = min(worst before, kFloor) <= 0.5
     for (int round = 0; round < 3; ++round) {
       for (const Index p : pts) {
         double around = 2;
         for (const Index id : quads_of(p)) around = std::min(around, quality(id));
-        if (around < std::min(floor, 0.5)) optimize(p);  // only what holds the attempt back
+        if (around < floor) optimize(p);  // only what holds the attempt back
       }
       w = worst();
     }

@@ -343,13 +343,13 @@ Samples sample_positions(const CurvePlan& plan) {
   return out;
 }
 
-// Turns a region boundary plan exact (its own vertices as samples), keeping the
-// parity of its total count so that no part's boundary becomes odd.
-// Only edges longer than this many sizes: splitting every edge above the size (at 1.5)
-// lowered the Gulf's worst quad at 1M quads from 0.02-0.04 to 0.000 (new samples
-// beside sharp coast turns).
+// Exact plans split only edges longer than this many sizes: splitting every edge above
+// the size (at 1.5) lowered the Gulf's worst quad at 1M quads from 0.02-0.04 to 0.000
+// (new samples beside sharp coast turns).
 constexpr double kSplitEdgesLongerThan = 3.0;
 
+// Turns a region boundary plan exact (its own vertices as samples), keeping the
+// parity of its total count so that no part's boundary becomes odd.
 void make_exact(CurvePlan& plan, Index before, double size) {
   // Input edges far longer than the size (the straight sides of a clipped region,
   // a coast digitised coarsely) are split evenly: as single edges they left paving a
