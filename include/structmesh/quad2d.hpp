@@ -78,7 +78,7 @@ PavedPart pave(const Polygon2& boundary, const PavingOptions& options = {});
 // Per-part mesher: mapped (structured) grid of a four-sided part
 
 struct MappedMeshOptions {
-  int smoothing_iterations = 200;    ///< elliptic (Winslow) smoothing sweeps of the interior
+  int smoothing_iterations = 60;     ///< elliptic (Winslow) smoothing sweeps of the interior (over-relaxed)
   double min_scaled_jacobian = 0.6;  ///< below this anywhere: return std::nullopt (the caller paves instead)
 };
 

@@ -58,7 +58,14 @@ Box escape_box(const StructuredGrid& grid) {
   return {b.xmin - d, b.xmax + d, b.ymin - d, b.ymax + d};
 }
 
-/// Gauss-Seidel sweeps over the interior with `update(i, j, k, w, x, y) -> (x', y')`
+// Successive over-relaxation of the Gauss-Seidel sweeps. The large grids of the Key at
+// 2M quads (up to 316 x 136) still moved points by 4% of an edge per sweep after 150
+// plain sweeps; with 1.8, 60 sweeps give a smoother grid (average scaled Jacobian
+// 0.9918 instead of 0.9910 after 200 plain sweeps) in less than a third of the work.
+// A sweep that diverges ends in the escape box and the next attempt takes over.
+constexpr double kOverRelaxation = 1.8;
+
+/// Over-relaxed Gauss-Seidel sweeps over the interior with `update(i, j, k, w, x, y) -> (x', y')`
 /// (k = node(i, j), w = ni + 1); a node
 /// that comes out non-finite or outside the escape box ends the sweeps as Diverged.
 template <class Update>
@@ -72,7 +79,9 @@ Smoothing sweep(StructuredGrid& grid, int iterations, double tolerance, Update u
     double largest = 0;
     for (std::size_t j = 1; j < grid.nj; ++j) {
       for (std::size_t i = 1, k = j * w + 1; i < grid.ni; ++i, ++k) {
-        const auto [nx, ny] = update(i, j, k, w, x, y);
+        auto [nx, ny] = update(i, j, k, w, x, y);
+        nx = x[k] + kOverRelaxation * (nx - x[k]);
+        ny = y[k] + kOverRelaxation * (ny - y[k]);
         if (!(nx >= box.xmin && nx <= box.xmax && ny >= box.ymin && ny <= box.ymax)) return Smoothing::Diverged;
         largest = std::max(largest, std::max(std::abs(nx - x[k]), std::abs(ny - y[k])));
         x[k] = nx;
@@ -251,11 +260,12 @@ std::optional<PavedPart> mapped_mesh(const Polygon2& boundary, const std::array<
   if (std::isnan(options.min_scaled_jacobian)) throw InputError("mapped_mesh: min_scaled_jacobian is NaN");
   const StructuredGrid initial = transfinite_grid(boundary, corners);
 
-  // Convergence: the largest move of a sweep below 1e-10 of the mean boundary edge.
+  // Convergence: the largest move of a sweep below 1e-3 of the mean boundary edge
+  // (invisible in the mesh and in its quality).
   const auto ring = boundary.ring(0);
   double perimeter = 0;
   for (std::size_t i = 0; i < ring.size(); ++i) perimeter += (ring[(i + 1) % ring.size()] - ring[i]).norm();
-  const double tolerance = 1e-10 * perimeter / static_cast<double>(ring.size());
+  const double tolerance = 1e-3 * perimeter / static_cast<double>(ring.size());
 
   // `!(q >= threshold)` also rejects a NaN quality.
   const auto accepted = [&](const StructuredGrid& g) { return min_scaled_jacobian(g) >= options.min_scaled_jacobian; };

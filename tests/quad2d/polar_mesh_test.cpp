@@ -4,6 +4,7 @@
 #include "structmesh/quality.hpp"
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <cmath>
 #include <map>
@@ -208,6 +209,11 @@ TEST(IntervalAssignment, ClustersOfARowOfSquaresAgreeOnSharedEdges) {
     EXPECT_EQ(s.counts[e[0]], s.counts[e[2]]);
     EXPECT_EQ(s.counts[e[1]], s.counts[e[3]]);
   }
+  // Clusters that share no edge are solved in parallel: one thread gives the same counts.
+  quad2d::IntervalSolution one_thread;
+  tbb::task_arena(1).execute([&] { one_thread = quad2d::solve_interval_assignment_in_clusters(problem, 4); });
+  EXPECT_EQ(one_thread.counts, s.counts);
+  EXPECT_EQ(one_thread.mapped, s.mapped);
   EXPECT_THROW(quad2d::solve_interval_assignment_in_clusters(problem, 0), InputError);
 }
 
