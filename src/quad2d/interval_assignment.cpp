@@ -352,8 +352,9 @@ IntervalSolution solve_interval_assignment_in_clusters(const IntervalProblem& pr
     std::vector<std::size_t> four_index, polar_index;
     IntervalSolution solution;
   };
-  // Reads solution.counts of the cluster's own edges only, which no cluster of the
-  // same colour writes.
+  // Reads solution.counts of the cluster's own edges; keep() writes them back only
+  // after every cluster of the colour is solved, and clusters of one colour share no
+  // edge, so solving them together gives what solving them in turn would.
   const auto solve_cluster = [&](std::size_t c) {
     ClusterSolve out;
     IntervalProblem& sub = out.sub;
