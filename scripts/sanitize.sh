@@ -1,5 +1,8 @@
 #!/usr/bin/env bash
-# Builds the tests with AddressSanitizer + UndefinedBehaviorSanitizer and runs them all.
+# Builds the tests with AddressSanitizer + UndefinedBehaviorSanitizer and runs them all but
+# two: the Gulf of Mexico in 8 and 16 parts (185 s and 160 s under ASan, about 6 of CI's
+# 45 minutes). The same code runs sanitized on the Gulf in 2 parts, the Natural Earth Gulf in
+# 16 parts and Matagorda Bay, and the two run unsanitized in scripts/test.sh.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/scripts/install-deps.sh"
@@ -11,4 +14,4 @@ cmake --build "$build_dir" -j "$(nproc)"
 cd "$build_dir"
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-ctest --output-on-failure -j "$(nproc)" --timeout 900
+ctest --output-on-failure -j "$(nproc)" --timeout 900 -E 'RealCoastline.*gulf_of_mexico_(8|16)_parts'
