@@ -134,6 +134,10 @@ EdgeAdjacency build_edges(const HexMesh& mesh);
 
 FaceAdjacency<3> build_faces(const TetMesh& mesh);
 FaceAdjacency<4> build_faces(const HexMesh& mesh);
+/// The boundary of a tet mesh: its faces that belong to one tet, oriented outward, in
+/// build_faces() order, on the points they use (renumbered in ascending order of the
+/// tet mesh's point index; `point_of[v]` gives that index when `point_of` is given).
+TriMesh boundary_surface(const TetMesh& mesh, std::vector<Index>* point_of = nullptr);
 
 /// Vertex -> incident elements (the one-ring of elements), ascending element ids.
 CompressedRows build_vertex_elements(std::span<const std::array<Index, 3>> elements, std::size_t point_count);

@@ -1,9 +1,11 @@
 #include "structmesh/mesh.hpp"
+#include "structmesh/error.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <string>
 #include <tuple>
 
 namespace structmesh {
@@ -264,6 +266,32 @@ FaceAdjacency<3> build_faces(const TetMesh& mesh) {
 }
 FaceAdjacency<4> build_faces(const HexMesh& mesh) {
   return faces_from_table<4>(std::span(mesh.hexes), mesh.points.size(), kHexFaces);
+}
+
+TriMesh boundary_surface(const TetMesh& mesh, std::vector<Index>* point_of) {
+  const FaceAdjacency<3> faces = build_faces(mesh);
+  TriMesh surface;
+  std::vector<Index> renumber(mesh.points.size(), kInvalidIndex);
+  for (std::size_t f = 0; f < faces.faces.size(); ++f)
+    if (faces.face_cells[f][1] == kInvalidIndex) {
+      surface.triangles.push_back(faces.faces[f]);  // outward from its one tet
+      for (const Index v : faces.faces[f]) {
+        if (v >= mesh.points.size())
+          throw InputError("boundary_surface: a tet refers to point " + std::to_string(v) + " of " +
+                           std::to_string(mesh.points.size()));
+        renumber[v] = 0;
+      }
+    }
+  if (point_of) point_of->clear();
+  for (std::size_t v = 0; v < mesh.points.size(); ++v)
+    if (renumber[v] == 0) {
+      renumber[v] = static_cast<Index>(surface.points.size());
+      surface.points.push_back(mesh.points[v]);
+      if (point_of) point_of->push_back(static_cast<Index>(v));
+    }
+  for (auto& t : surface.triangles)
+    for (Index& v : t) v = renumber[v];
+  return surface;
 }
 
 CompressedRows build_vertex_elements(std::span<const std::array<Index, 3>> elements, std::size_t point_count) {

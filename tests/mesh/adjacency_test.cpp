@@ -1,8 +1,10 @@
 // The adjacency builders against a brute-force reference (sort every edge/face use
 // globally) on random meshes with shared, repeated and collapsed vertices, and for
 // several thread counts: the output must be identical, entry by entry.
+#include "structmesh/error.hpp"
 #include "structmesh/mesh.hpp"
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
@@ -135,6 +137,30 @@ TEST(Adjacency, IndicesPastThePointsAreStillCovered) {
   const EdgeAdjacency edges = build_edges(mesh);
   ASSERT_EQ(edges.edges.size(), 5u);
   EXPECT_EQ(edges.edges.back(), (std::array<Index, 2>{2, 7}));
+}
+
+TEST(BoundarySurface, TwoTetsSharingAFaceGiveSixOutwardTriangles) {
+  TetMesh mesh;
+  // Point 2 is unused; the two tets share face {0, 1, 3}.
+  mesh.points = {{0, 0, 0}, {1, 0, 0}, {9, 9, 9}, {0, 1, 0}, {0, 0, 1}, {0, 0, -1}};
+  mesh.tets = {{0, 1, 3, 4}, {0, 3, 1, 5}};
+  std::vector<Index> point_of;
+  const TriMesh surface = boundary_surface(mesh, &point_of);
+  EXPECT_EQ(point_of, (std::vector<Index>{0, 1, 3, 4, 5}));
+  ASSERT_EQ(surface.points.size(), 5u);
+  ASSERT_EQ(surface.triangles.size(), 6u);
+  // Outward: the divergence theorem gives the enclosed volume, 2 * 1/6.
+  double volume = 0;
+  for (const auto& t : surface.triangles)
+    volume += surface.points[t[0]].dot(surface.points[t[1]].cross(surface.points[t[2]])) / 6.0;
+  EXPECT_NEAR(volume, 1.0 / 3.0, 1e-12);
+  // The shared face {0, 1, 3} (surface points 0, 1, 2) is not on the boundary.
+  for (auto t : surface.triangles) {
+    std::sort(t.begin(), t.end());
+    EXPECT_NE(t, (std::array<Index, 3>{0, 1, 2}));
+  }
+  mesh.tets.push_back({0, 1, 3, 17});
+  EXPECT_THROW(boundary_surface(mesh), InputError);
 }
 
 }  // namespace
