@@ -55,6 +55,8 @@ int main(int argc, char** argv) {
       cli::add_partition2d_command);
   add("quad2d", "All-quad mesh of a planar region: partition, pave the parts in parallel, merge, relax (§3.3)",
       cli::add_quad2d_command);
+  add("tetmesh", "Tetrahedral mesh of a closed surface, keeping its triangles as the boundary (TetGen)",
+      cli::add_tetmesh_command);
 
   try {
     app.parse(argc, argv);
