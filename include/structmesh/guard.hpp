@@ -1,0 +1,157 @@
+// 3D shape guarding (dissertation §2.2): which boundary vertices and faces a point
+// inside a solid sees (§2.2.1), and the set cover that picks the fewest guards
+// (§2.2.2, ILP (2.2)-(2.3)) with the reductions of the progressive ILP (§2.2.3).
+//
+// Set-cover vocabulary. The candidates' visibility is passed as CompressedRows
+// `sets`: sets.row(c) lists the elements (boundary faces) candidate c covers. In the
+// ILP (2.2)-(2.3) there is one binary variable x_c per set and one constraint per
+// element, so SetCoverReduction and IlpSetCoverResult say "rows" for elements and
+// "columns" for sets, as the dissertation's reduction rules and the solvers do.
+#pragma once
+
+#include "structmesh/mesh.hpp"
+
+#include <cstddef>
+#include <memory>
+#include <span>
+#include <vector>
+
+namespace structmesh {
+
+// ---------------------------------------------------------------------------
+// Visibility (§2.2.1)
+
+struct VisibilityOptions {
+  /// The part of the segment next to the target vertex v that the ray test leaves
+  /// out, as a fraction of the segment: the ray p -> v stops at t = 1 - eps. v's own
+  /// faces meet the ray at t = 1 and must not count as blockers; rounding the
+  /// coordinates to float moves that hit by about 1e-7 of the coordinates' size, so
+  /// eps is widened to `float_margin` x (bounding-box diagonal) / |v - p| for short
+  /// segments. A surface crossing inside the excluded window that is not on a face of
+  /// v goes unseen (a sheet thinner than eps |v - p| right in front of v).
+  double relative_eps = 1e-5;
+  double float_margin = 1e-5;
+  /// Embree's robust mode (RTC_SCENE_FLAG_ROBUST: no optimisations that cost
+  /// accuracy), so that a ray through a shared edge or vertex hits a triangle there
+  /// rather than slipping between them. On segments through edges and vertices that
+  /// are exact in float (the tests) both settings block every one; the cost of robust
+  /// mode was within the noise of a loaded 2-core machine.
+  bool robust = true;
+};
+
+/// Vertex visibility of §2.2.1 against a closed, outward-oriented triangle surface.
+///
+/// Rule. Boundary vertex v is visible from p iff the segment [p, v] meets the surface
+/// only at v and leaves v into the solid's interior. Touching counts as meeting:
+///  - a segment that passes through an edge or a vertex of the surface before v, or
+///    runs along a face, is blocked, even if it never leaves the solid (grazing past a
+///    reflex edge is blocked);
+///  - at v, the direction p - v must point strictly into the solid's interior cone at
+///    v. The test takes the feature of v's face fan nearest to the direction (a face,
+///    an edge of v, or v itself) and the sign against that feature's (pseudo)normal
+///    (Bærentzen and Aanæs 2005), which is right at convex, concave and saddle vertices
+///    alike; a direction in the plane of one of v's faces (the segment runs along
+///    it) is blocked. So a point outside the solid sees no vertex whose
+///    neighbourhood it approaches from outside, even when nothing lies in between.
+/// p == v is visible (the segment is the single point v).
+///
+/// Precision. The local test at v is in double. The segment test runs in Embree in
+/// float: coordinates are translated to the bounding box's centre and rounded to float
+/// (a relative error of about 6e-8 of the box's size), so segments that pass within
+/// about that distance of an edge or vertex may be decided either way, and hits in the
+/// last eps of the segment (VisibilityOptions) are not looked for.
+///
+/// Built once per surface; holds the Embree device and scene (released on
+/// destruction). Movable, not copyable. sees() is thread-safe.
+class VisibilityOracle {
+ public:
+  /// InputError when the surface is not closed and consistently oriented (every edge
+  /// in exactly two faces, traversed once each way), has a zero-area face, or encloses
+  /// negative volume (inward normals).
+  explicit VisibilityOracle(const TriMesh& surface, const VisibilityOptions& options = {});
+  ~VisibilityOracle();
+  VisibilityOracle(VisibilityOracle&&) noexcept;
+  VisibilityOracle& operator=(VisibilityOracle&&) noexcept;
+  VisibilityOracle(const VisibilityOracle&) = delete;
+  VisibilityOracle& operator=(const VisibilityOracle&) = delete;
+
+  /// Whether surface vertex `vertex` is visible from p (the rule above).
+  bool sees(const Vec3& p, Index vertex) const;
+  /// Whether the segment [p, v] meets the surface before the excluded window at v
+  /// (the ray part of the rule alone, without the test at v).
+  bool segment_blocked(const Vec3& p, Index vertex) const;
+  /// Whether direction d, leaving vertex v, points strictly into the solid (the test
+  /// at v alone).
+  bool enters_interior(Index vertex, const Vec3& d) const;
+
+  std::size_t vertex_count() const;
+  std::size_t face_count() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Row c lists, ascending, the faces of `surface` whose three vertices are all visible
+/// from candidates[c] (face visibility of §2.2). `surface` must be the mesh the oracle
+/// was built from. Each vertex used by a face is tested once per candidate. Parallel
+/// over candidates (TBB); the result does not depend on the thread count.
+CompressedRows visible_faces(const VisibilityOracle& oracle, const TriMesh& surface, std::span<const Vec3> candidates);
+
+// ---------------------------------------------------------------------------
+// Set cover (§2.2.2-2.2.3)
+
+/// Whether the union of sets.row(c) over c in `chosen` is {0, ..., element_count - 1}.
+bool covers_all(const CompressedRows& sets, std::size_t element_count, std::span<const Index> chosen);
+
+/// Greedy set cover (§2.2.2): repeatedly take the set covering the most still
+/// uncovered elements, ties to the lowest index. Deterministic; O(total size x log)
+/// with counts updated through the element -> sets transpose and a lazy priority
+/// queue. Returns the chosen sets in the order picked. InputError when an element
+/// index is out of range or an element is in no set (names the first such element
+/// and how many there are).
+std::vector<Index> greedy_set_cover(const CompressedRows& sets, std::size_t element_count);
+
+/// The instance left after the reduction rules of §2.2.3, applied until none applies:
+///  - essential column (rule 1): a row (element) in only one column (set) forces
+///    that column; the rows it covers are removed with it;
+///  - duplicate rows: rows with the same columns; one is kept (the lowest index);
+///  - row dominance (rule 2): a row whose columns are a superset of another row's is
+///    covered whenever that row is: removed;
+///  - column dominance (rule 3): a column whose rows are a subset of another column's
+///    is never needed: removed (of two equal columns the lower index is kept).
+/// Rule 4 (splitting into independent blocks) is not applied.
+/// Every optimal cover of the reduced instance plus the forced columns is an optimal
+/// cover of the input.
+struct SetCoverReduction {
+  std::size_t rows_before = 0, rows_after = 0;        // elements
+  std::size_t columns_before = 0, columns_after = 0;  // sets
+  std::vector<Index> forced;                          // sets every cover includes (ascending)
+  std::vector<Index> kept_rows;                       // elements left, ascending (input ids)
+  std::vector<Index> kept_columns;                    // sets left, ascending (input ids)
+  /// Row k: the elements set kept_columns[k] covers, as positions in kept_rows.
+  CompressedRows reduced_sets;
+  std::size_t rounds = 0;  // passes over the four rules until nothing changed
+};
+
+/// InputError as for greedy_set_cover().
+SetCoverReduction reduce_set_cover(const CompressedRows& sets, std::size_t element_count);
+
+struct IlpSetCoverResult {
+  std::vector<Index> chosen;  // ascending set ids; always a cover
+  bool optimal = false;       // proven optimal by CBC (or by the reductions alone)
+  double lower_bound = 0;     // on the number of sets of any cover
+  std::size_t rows_before = 0, rows_after = 0, columns_before = 0, columns_after = 0;
+  std::size_t greedy_size = 0;  // size of the greedy cover of the reduced instance plus the forced sets
+  double seconds = 0;
+};
+
+/// Minimum set cover, ILP (2.2)-(2.3): min sum x_c subject to sum_{c covering e} x_c >= 1
+/// for every element e, x binary; after reduce_set_cover(), solved by COIN-OR CBC
+/// (stand-alone solver defaults, no log) within `time_limit_seconds` of wall time. CBC
+/// starts from the greedy cover, and the better of the two is returned, so a time-out
+/// still gives a cover (optimal = false, lower_bound from CBC's bound). InputError as
+/// for greedy_set_cover(); Error if the result were not a cover.
+IlpSetCoverResult ilp_set_cover(const CompressedRows& sets, std::size_t element_count, double time_limit_seconds = 60);
+
+}  // namespace structmesh
