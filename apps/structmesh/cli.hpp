@@ -30,6 +30,7 @@ Action add_generate_command(CLI::App& command, const GlobalOptions& global);
 Action add_convert_command(CLI::App& command, const GlobalOptions& global);
 Action add_partition2d_command(CLI::App& command, const GlobalOptions& global);
 Action add_quad2d_command(CLI::App& command, const GlobalOptions& global);
+Action add_guard_command(CLI::App& command, const GlobalOptions& global);
 Action add_tetmesh_command(CLI::App& command, const GlobalOptions& global);
 
 /// A region from a file (.geojson, .poly) or the built-in "key" / "pipe" with about

@@ -57,6 +57,8 @@ int main(int argc, char** argv) {
       cli::add_quad2d_command);
   add("tetmesh", "Tetrahedral mesh of a closed surface, keeping its triangles as the boundary (TetGen)",
       cli::add_tetmesh_command);
+  add("guard", "Fewest interior guards that see every face of a closed surface or solid (§2.2)",
+      cli::add_guard_command);
 
   try {
     app.parse(argc, argv);

@@ -11,9 +11,13 @@
 
 #include "structmesh/mesh.hpp"
 
+#include <array>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <span>
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace structmesh {
@@ -153,5 +157,55 @@ struct IlpSetCoverResult {
 /// still gives a cover (optimal = false, lower_bound from CBC's bound). InputError as
 /// for greedy_set_cover(); Error if the result were not a cover.
 IlpSetCoverResult ilp_set_cover(const CompressedRows& sets, std::size_t element_count, double time_limit_seconds = 60);
+
+// ---------------------------------------------------------------------------
+// The whole guarding stage (§2.2): candidates from the curve skeleton, visibility,
+// set cover.
+
+enum class GuardMethod : std::uint8_t { Greedy, Ilp };
+
+struct GuardOptions {
+  GuardMethod method = GuardMethod::Ilp;
+  /// Skeleton resampling spacing; 0: 1% of the bounding-box diagonal.
+  double spacing = 0;
+  /// The skeleton is computed on the surface simplified to this many vertices (0: the
+  /// surface itself); visibility is always tested against the input surface.
+  std::size_t skeleton_vertices = 10000;
+  /// CBC time limit of the ILP (seconds); the best cover found so far is kept.
+  double time_limit = 60;
+  bool progress = false;
+};
+
+struct Guard {
+  Vec3 position;
+  /// The input faces this guard is responsible for (it sees each of them; a face seen
+  /// by several chosen guards goes to the nearest), ascending.
+  std::vector<Index> faces;
+};
+
+struct GuardResult {
+  std::vector<Guard> guards;
+  std::vector<Index> face_guard;  ///< per input face: its guard (kInvalidIndex: seen by no candidate)
+  /// Guards whose face sets share a surface edge (the guard graph of §2.4).
+  std::vector<std::array<Index, 2>> graph;
+  std::size_t skeleton_nodes = 0;
+  std::size_t candidates = 0;        ///< inside the solid, after resampling
+  std::size_t added_candidates = 0;  ///< inward offsets of vertices no skeleton point saw
+  std::size_t uncovered_faces = 0;   ///< seen by no candidate at all (left out of the cover)
+  std::size_t greedy_guards = 0;     ///< the greedy cover's size (always computed)
+  bool optimal = false;              ///< the ILP proved its cover minimal
+  double lower_bound = 0;            ///< the ILP's bound on the minimum
+  std::size_t rows_before = 0, rows_after = 0, columns_before = 0, columns_after = 0;
+  std::vector<std::pair<std::string, double>> stage_seconds;
+};
+
+/// Fewest interior points that together see every face of a closed surface (§2.2):
+/// curve-skeleton candidates (resampled, joints kept, inside the solid), face
+/// visibility by VisibilityOracle, then the greedy or exact (ILP) set cover. Faces no
+/// skeleton point sees get candidates halfway between each of their vertices and the
+/// skeleton node that absorbed it, and just inside the vertex (the dissertation adds
+/// the invisible vertices themselves). InputError for an open, non-manifold,
+/// self-intersecting or inward-oriented surface.
+GuardResult guard_surface(const TriMesh& surface, const GuardOptions& options = {});
 
 }  // namespace structmesh

@@ -22,8 +22,12 @@ struct CurveSkeleton {
 
 /// The mean-curvature-flow skeleton (Tagliasacchi et al. 2012, CGAL's
 /// Mean_curvature_flow_skeletonization) of a closed, manifold, oriented triangle surface
-/// with default parameters. InputError for an open or non-manifold surface.
-CurveSkeleton curve_skeleton(const TriMesh& surface);
+/// with default parameters. A surface of more than `max_vertices` vertices (0: no
+/// limit) is first simplified to about that many by edge collapse: the flow's cost
+/// grows faster than linearly (measured here: 30k vertices 15 s, 5k under 1 s) while
+/// the skeleton of a simplified surface runs along the same medial curves; every input
+/// vertex then goes to its nearest node. InputError for an open or non-manifold surface.
+CurveSkeleton curve_skeleton(const TriMesh& surface, std::size_t max_vertices = 0);
 
 /// Points along the skeleton about `spacing` apart: every joint (degree != 2) and end is
 /// kept (§2.2.3: "re-sampled with joints preserved"), each branch between two of them is

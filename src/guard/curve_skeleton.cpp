@@ -9,10 +9,13 @@
 #include <CGAL/Mean_curvature_flow_skeletonization.h>
 #include <CGAL/Side_of_triangle_mesh.h>
 #include <CGAL/Surface_mesh.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Count_stop_predicate.h>
+#include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 #include <CGAL/extract_mean_curvature_flow_skeleton.h>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace structmesh {
@@ -44,9 +47,19 @@ SurfaceMesh to_surface_mesh(const TriMesh& surface) {
 
 }  // namespace
 
-CurveSkeleton curve_skeleton(const TriMesh& surface) {
+CurveSkeleton curve_skeleton(const TriMesh& surface, std::size_t max_vertices) {
   if (surface.triangles.empty()) throw InputError("curve_skeleton: the surface has no triangles");
   SurfaceMesh mesh = to_surface_mesh(surface);
+  const bool simplify = max_vertices > 0 && surface.points.size() > max_vertices;
+  if (simplify) {
+    // Edge collapse (Lindstrom-Turk cost and placement, CGAL's default) keeps the
+    // shape and, by the link condition, the topology; a closed surface has about three
+    // edges per vertex.
+    namespace collapse = CGAL::Surface_mesh_simplification;
+    const collapse::Count_stop_predicate<SurfaceMesh> stop(3 * max_vertices);
+    collapse::edge_collapse(mesh, stop);
+    mesh.collect_garbage();
+  }
   using Skeletonization = CGAL::Mean_curvature_flow_skeletonization<SurfaceMesh>;
   Skeletonization::Skeleton skeleton;
   CGAL::extract_mean_curvature_flow_skeleton(mesh, skeleton);
@@ -57,8 +70,17 @@ CurveSkeleton curve_skeleton(const TriMesh& surface) {
     const Point& p = skeleton[v].point;
     const auto node = static_cast<Index>(result.nodes.size());
     result.nodes.emplace_back(p.x(), p.y(), p.z());
-    for (const auto absorbed : skeleton[v].vertices) result.vertex_node[static_cast<std::size_t>(absorbed)] = node;
+    if (!simplify)
+      for (const auto absorbed : skeleton[v].vertices) result.vertex_node[static_cast<std::size_t>(absorbed)] = node;
   }
+  if (simplify)  // the collapsed vertices are gone: each input vertex goes to its nearest node
+    for (std::size_t v = 0; v < surface.points.size(); ++v) {
+      double best = std::numeric_limits<double>::infinity();
+      for (std::size_t k = 0; k < result.nodes.size(); ++k) {
+        const double distance = (result.nodes[k] - surface.points[v]).squaredNorm();
+        if (distance < best) best = distance, result.vertex_node[v] = static_cast<Index>(k);
+      }
+    }
   for (const auto e : CGAL::make_range(boost::edges(skeleton))) {
     const auto a = static_cast<Index>(boost::source(e, skeleton)), b = static_cast<Index>(boost::target(e, skeleton));
     result.edges.push_back({std::min(a, b), std::max(a, b)});
@@ -88,7 +110,7 @@ std::vector<Vec3> resample_skeleton(const CurveSkeleton& skeleton, double spacin
   const auto edge_index = [&](Index a, Index b) {
     const std::array<Index, 2> key{std::min(a, b), std::max(a, b)};
     return static_cast<std::size_t>(std::lower_bound(skeleton.edges.begin(), skeleton.edges.end(), key) -
-                                     skeleton.edges.begin());
+                                    skeleton.edges.begin());
   };
   edge_done.assign(skeleton.edges.size(), 0);
   const auto walk = [&](Index start, Index next) {
@@ -104,7 +126,8 @@ std::vector<Vec3> resample_skeleton(const CurveSkeleton& skeleton, double spacin
       current = following;
     }
     double length = 0;
-    for (std::size_t i = 1; i < path.size(); ++i) length += (skeleton.nodes[path[i]] - skeleton.nodes[path[i - 1]]).norm();
+    for (std::size_t i = 1; i < path.size(); ++i)
+      length += (skeleton.nodes[path[i]] - skeleton.nodes[path[i - 1]]).norm();
     const auto pieces = static_cast<std::size_t>(std::max(1.0, std::round(length / spacing)));
     // Interior samples at arc lengths k * length / pieces, k = 1 .. pieces - 1.
     std::size_t segment = 1;

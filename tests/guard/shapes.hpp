@@ -17,15 +17,16 @@ namespace structmesh::test {
 using Cell = std::array<int, 3>;
 
 /// Boundary of a union of unit cubes [i, i+1] x [j, j+1] x [k, k+1], each boundary
-/// square split along its 0-2 diagonal. Manifold when no two cells touch only along
-/// an edge or at a corner.
-inline TriMesh voxel_surface(const std::vector<Cell>& cells) {
+/// square cut into n x n smaller squares (n = `subdivisions`), each split along its
+/// 0-2 diagonal. Manifold when no two cells touch only along an edge or at a corner.
+inline TriMesh voxel_surface(const std::vector<Cell>& cells, int subdivisions = 1) {
+  const int n = subdivisions;
   const std::set<Cell> filled(cells.begin(), cells.end());
   TriMesh mesh;
-  std::map<Cell, Index> ids;
+  std::map<Cell, Index> ids;  // positions in units of 1 / n
   const auto vertex = [&](const Cell& c) {
     const auto [it, inserted] = ids.emplace(c, static_cast<Index>(mesh.points.size()));
-    if (inserted) mesh.points.emplace_back(c[0], c[1], c[2]);
+    if (inserted) mesh.points.emplace_back(double(c[0]) / n, double(c[1]) / n, double(c[2]) / n);
     return it->second;
   };
   for (const Cell& cell : filled)
@@ -36,17 +37,22 @@ inline TriMesh voxel_surface(const std::vector<Cell>& cells) {
         if (filled.count(neighbour) != 0) continue;
         // e_u x e_w = e_axis: corners base, +u, +u+w, +w face +axis.
         const int u = (axis + 1) % 3, w = (axis + 2) % 3;
-        Cell base = cell;
-        if (side > 0) base[axis] += 1;
-        Cell c1 = base, c2 = base, c3 = base;
-        c1[u] += 1;
-        c2[u] += 1;
-        c2[w] += 1;
-        c3[w] += 1;
-        std::array<Index, 4> q{vertex(base), vertex(c1), vertex(c2), vertex(c3)};
-        if (side < 0) std::swap(q[1], q[3]);
-        mesh.triangles.push_back({q[0], q[1], q[2]});
-        mesh.triangles.push_back({q[0], q[2], q[3]});
+        for (int i = 0; i < n; ++i)
+          for (int j = 0; j < n; ++j) {
+            Cell base{cell[0] * n, cell[1] * n, cell[2] * n};
+            if (side > 0) base[axis] += n;
+            base[u] += i;
+            base[w] += j;
+            Cell c1 = base, c2 = base, c3 = base;
+            c1[u] += 1;
+            c2[u] += 1;
+            c2[w] += 1;
+            c3[w] += 1;
+            std::array<Index, 4> q{vertex(base), vertex(c1), vertex(c2), vertex(c3)};
+            if (side < 0) std::swap(q[1], q[3]);
+            mesh.triangles.push_back({q[0], q[1], q[2]});
+            mesh.triangles.push_back({q[0], q[2], q[3]});
+          }
       }
   return mesh;
 }

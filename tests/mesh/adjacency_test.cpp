@@ -4,9 +4,9 @@
 #include "structmesh/error.hpp"
 #include "structmesh/mesh.hpp"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <random>

@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# End-to-end checks of structmesh guard. Usage: guard_test.sh STRUCTMESH DATA_DIR WORK_DIR
+set -u
+sm=$1
+data=$2
+work=$3
+rm -rf "$work"
+mkdir -p "$work"
+failed=0
+fail() {
+  echo "FAIL: $*"
+  failed=$((failed + 1))
+}
+torus="$data/surfaces/torus.obj"
+if [[ ! -f "$torus" ]]; then
+  echo "no $torus: STRUCTMESH_DATA must point at the shared data"
+  exit 1
+fi
+
+# A torus surface, and the same torus as a tet mesh (its boundary is the surface).
+"$sm" guard "$torus" -o "$work/guards.json" -o "$work/faces.vtu" --json "$work/report.json" --quiet ||
+  fail "guard torus.obj exited $?"
+"$sm" tetmesh "$torus" -o "$work/torus.mesh" --quiet || fail "tetmesh torus.obj exited $?"
+"$sm" guard "$work/torus.mesh" --method greedy -o "$work/solid.json" --quiet || fail "guard torus.mesh exited $?"
+python3 - "$work" <<'END' || fail "guard outputs"
+import json, sys
+work = sys.argv[1]
+guards = json.load(open(f"{work}/guards.json"))
+report = json.load(open(f"{work}/report.json"))
+faces = report["faces"]
+assigned = sorted(f for g in guards["guards"] for f in g["faces"])
+assert assigned == list(range(faces)), "every face belongs to exactly one guard"
+# A point inside a torus sees only an arc of the tube: several guards, ILP <= greedy.
+assert 3 <= len(guards["guards"]) <= report["greedy_guards"], (len(guards["guards"]), report["greedy_guards"])
+assert report["uncovered_faces"] == 0 and report["optimal"]
+for g in guards["guards"]:
+    assert len(g["position"]) == 3
+for a, b in guards["graph"]:
+    assert 0 <= a < b < len(guards["guards"])
+solid = json.load(open(f"{work}/solid.json"))
+assert sorted(f for g in solid["guards"] for f in g["faces"]) == list(range(faces)), "solid input: same faces"
+END
+grep -q 'Name="guard"' "$work/faces.vtu" || fail "faces.vtu has no guard cell data"
+
+# Bad input: an open surface, a missing file.
+{ echo "OFF"; echo "4 2 0"; echo "0 0 0"; echo "1 0 0"; echo "0 1 0"; echo "0 0 1"; echo "3 0 2 1"; echo "3 0 1 3"; } \
+  >"$work/open.off"
+"$sm" guard "$work/open.off" -o "$work/open.json" 2>"$work/open.err"
+status=$?
+[[ $status -eq 2 ]] || fail "open surface: exit $status, expected 2"
+grep -q "open" "$work/open.err" || fail "open surface: no 'open' in: $(cat "$work/open.err")"
+[[ ! -e "$work/open.json" ]] || fail "open surface: an output was written"
+"$sm" guard "$work/missing.obj" -o "$work/missing.json" 2>/dev/null
+status=$?
+[[ $status -eq 2 ]] || fail "missing file: exit $status, expected 2"
+
+if ((failed > 0)); then
+  echo "$failed check(s) failed"
+  exit 1
+fi
+echo "guard CLI checks passed"

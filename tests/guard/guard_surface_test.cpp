@@ -1,0 +1,107 @@
+#include "guard/shapes.hpp"
+#include "structmesh/error.hpp"
+#include "structmesh/guard.hpp"
+
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+namespace structmesh {
+namespace {
+
+using test::voxel_surface;
+
+double enclosed_volume(const TriMesh& mesh) {
+  double volume = 0;
+  for (const auto& t : mesh.triangles)
+    volume += mesh.points[t[0]].dot(mesh.points[t[1]].cross(mesh.points[t[2]])) / 6.0;
+  return volume;
+}
+
+// Independent exact check: v is seen from p when the segment p-v meets no face that
+// does not contain v (exact predicates, no tolerance).
+bool exact_sees(const TriMesh& mesh, const Vec3& p, Index v) {
+  using K = CGAL::Exact_predicates_exact_constructions_kernel;
+  const auto point = [](const Vec3& x) { return K::Point_3(x.x(), x.y(), x.z()); };
+  const K::Segment_3 segment(point(p), point(mesh.points[v]));
+  for (const auto& t : mesh.triangles) {
+    if (t[0] == v || t[1] == v || t[2] == v) continue;
+    if (CGAL::do_intersect(segment, K::Triangle_3(point(mesh.points[t[0]]), point(mesh.points[t[1]]),
+                                                  point(mesh.points[t[2]]))))
+      return false;
+  }
+  return true;
+}
+
+void expect_every_face_seen_exactly(const TriMesh& mesh, const GuardResult& result) {
+  ASSERT_EQ(result.face_guard.size(), mesh.triangles.size());
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    const Index g = result.face_guard[f];
+    ASSERT_LT(g, result.guards.size()) << "face " << f << " has no guard";
+    for (const Index v : mesh.triangles[f])
+      EXPECT_TRUE(exact_sees(mesh, result.guards[g].position, v)) << "face " << f << " vertex " << v;
+  }
+}
+
+TEST(VoxelSurface, ClosedOutwardWithTheCellVolume) {
+  const TriMesh u = voxel_surface({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {2, 1, 0}}, 2);
+  EXPECT_NEAR(enclosed_volume(u), 5.0, 1e-12);
+}
+
+TEST(GuardSurface, ConvexCubeNeedsOneGuard) {
+  const TriMesh cube = voxel_surface({{0, 0, 0}}, 6);
+  for (const GuardMethod method : {GuardMethod::Greedy, GuardMethod::Ilp}) {
+    GuardOptions options;
+    options.method = method;
+    const GuardResult result = guard_surface(cube, options);
+    EXPECT_EQ(result.guards.size(), 1u);
+    EXPECT_EQ(result.uncovered_faces, 0u);
+    expect_every_face_seen_exactly(cube, result);
+  }
+}
+
+TEST(GuardSurface, LShapeIsStarShapedAndNeedsOne) {
+  // An L of three cubes (a 2D L extruded by one): the corner cube sees everything.
+  const TriMesh l_shape = voxel_surface({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, 4);
+  const GuardResult result = guard_surface(l_shape);
+  EXPECT_EQ(result.uncovered_faces, 0u);
+  EXPECT_EQ(result.guards.size(), 1u);
+  EXPECT_TRUE(result.optimal);
+  expect_every_face_seen_exactly(l_shape, result);
+}
+
+TEST(GuardSurface, UShapeNeedsTwoAndIlpIsNoWorseThanGreedy) {
+  // A U of seven cubes, prongs three long: no point sees the tops of both prongs.
+  const TriMesh u_shape =
+      voxel_surface({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {0, 2, 0}, {2, 1, 0}, {2, 2, 0}}, 3);
+  const GuardResult result = guard_surface(u_shape);
+  EXPECT_EQ(result.uncovered_faces, 0u);
+  EXPECT_EQ(result.guards.size(), 2u);
+  EXPECT_TRUE(result.optimal);
+  EXPECT_LE(result.guards.size(), result.greedy_guards);
+  expect_every_face_seen_exactly(u_shape, result);
+  // The two guards' face sets meet: one edge in the guard graph.
+  EXPECT_EQ(result.graph.size(), 1u);
+}
+
+TEST(GuardSurface, BadSurfacesAreRejectedWithTheReason) {
+  TriMesh open = voxel_surface({{0, 0, 0}}, 2);
+  open.triangles.pop_back();
+  try {
+    guard_surface(open);
+    FAIL() << "an open surface was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("open"), std::string::npos) << e.what();
+  }
+  TriMesh inward = voxel_surface({{0, 0, 0}}, 2);
+  for (auto& t : inward.triangles) std::swap(t[1], t[2]);
+  try {
+    guard_surface(inward);
+    FAIL() << "an inward surface was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("inward"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace structmesh
