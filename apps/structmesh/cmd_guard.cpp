@@ -16,7 +16,8 @@ namespace {
 nlohmann::json guards_json(const GuardResult& result, const std::string& method) {
   nlohmann::json guards = nlohmann::json::array();
   for (const Guard& guard : result.guards)
-    guards.push_back({{"position", {guard.position.x(), guard.position.y(), guard.position.z()}}, {"faces", guard.faces}});
+    guards.push_back(
+        {{"position", {guard.position.x(), guard.position.y(), guard.position.z()}}, {"faces", guard.faces}});
   nlohmann::json graph = nlohmann::json::array();
   for (const auto& [a, b] : result.graph) graph.push_back({a, b});
   return {{"method", method}, {"guards", guards}, {"graph", graph}};
@@ -28,8 +29,7 @@ Action add_guard_command(CLI::App& command, const GlobalOptions& global) {
   struct Settings {
     std::string input, method = "ilp";
     std::vector<std::string> outputs;
-    double spacing = 0, time_limit = 60;
-    std::size_t skeleton_vertices = 10000;
+    GuardOptions options;
   };
   auto settings = std::make_shared<Settings>();
   command.add_option("INPUT", settings->input, "Closed surface (.obj .off .ply .stl) or tet mesh (.mesh .msh .vtu)")
@@ -40,20 +40,20 @@ Action add_guard_command(CLI::App& command, const GlobalOptions& global) {
       .add_option("-o,--output", settings->outputs,
                   "guards.json (positions, faces, graph); a surface file (.vtu .ply .obj .off .mesh) coloured by guard")
       ->required();
-  command.add_option("--spacing", settings->spacing, "Skeleton resampling spacing (default 1% of the diagonal)")
+  command
+      .add_option("--spacing", settings->options.spacing, "Skeleton resampling spacing (default 1% of the diagonal)")
       ->check(CLI::PositiveNumber);
-  command.add_option("--skeleton-vertices", settings->skeleton_vertices,
+  command.add_option("--skeleton-vertices", settings->options.skeleton_vertices,
                      "Simplify the surface to this many vertices for the skeleton (0: never)");
-  command.add_option("--time-limit", settings->time_limit, "ILP time limit in seconds (the best cover so far is kept)")
+  command
+      .add_option("--time-limit", settings->options.time_limit,
+                  "ILP time limit in seconds (the best cover so far is kept)")
       ->check(CLI::PositiveNumber);
   return [&global, settings]() {
     const MeshBundle input = read_mesh(settings->input);
     const TriMesh surface = input.tets.empty() ? to_tri_mesh(input) : boundary_surface(to_tet_mesh(input));
-    GuardOptions options;
+    GuardOptions options = settings->options;
     options.method = settings->method == "greedy" ? GuardMethod::Greedy : GuardMethod::Ilp;
-    options.spacing = settings->spacing;
-    options.time_limit = settings->time_limit;
-    options.skeleton_vertices = settings->skeleton_vertices;
     options.progress = !global.quiet;
     const GuardResult result = guard_surface(surface, options);
 
@@ -75,10 +75,9 @@ Action add_guard_command(CLI::App& command, const GlobalOptions& global) {
       write_mesh(output, coloured, write);
     }
     say(global, std::to_string(result.guards.size()) + " guards (" + settings->method +
-                     (settings->method == "ilp" ? (result.optimal ? ", optimal" : ", not proven optimal") : "") +
-                     "; greedy " + std::to_string(result.greedy_guards) + ") from " +
-                     std::to_string(result.candidates) + " candidates; " + std::to_string(result.uncovered_faces) +
-                     " faces seen by no candidate");
+                    (settings->method == "ilp" ? (result.optimal ? ", optimal" : ", not proven optimal") : "") +
+                    "; greedy " + std::to_string(result.greedy_guards) + ") from " + std::to_string(result.candidates) +
+                    " candidates; " + std::to_string(result.uncovered_faces) + " faces seen by no candidate");
     nlohmann::json report{{"input", settings->input},
                           {"vertices", surface.points.size()},
                           {"faces", surface.triangles.size()},

@@ -62,11 +62,11 @@ int main(int argc, char** argv) {
       const auto start = std::chrono::steady_clock::now();
       const GuardResult r = guard_surface(surface, options);
       const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      std::printf("| %s | %zu | %zu | %zu | %zu | %zu | %s | %zu / %zu (%zu / %zu) | %.2f | %.2f | %.2f | %.2f | %s |\n",
-                  name.c_str(), surface.points.size(), r.skeleton_nodes, r.candidates, r.greedy_guards,
-                  r.guards.size(), r.optimal ? "yes" : "no", r.rows_before, r.columns_before, r.rows_after,
-                  r.columns_after, seconds_of(r, "skeleton"), seconds_of(r, "visibility"), seconds_of(r, "cover"),
-                  total, anchor);
+      std::printf(
+          "| %s | %zu | %zu | %zu | %zu | %zu | %s | %zu / %zu (%zu / %zu) | %.2f | %.2f | %.2f | %.2f | %s |\n",
+          name.c_str(), surface.points.size(), r.skeleton_nodes, r.candidates, r.greedy_guards, r.guards.size(),
+          r.optimal ? "yes" : "no", r.rows_before, r.columns_before, r.rows_after, r.columns_after,
+          seconds_of(r, "skeleton"), seconds_of(r, "visibility"), seconds_of(r, "cover"), total, anchor);
     } catch (const std::exception& e) {
       std::string what = e.what();
       if (what.size() > 120) what = what.substr(0, 117) + "...";

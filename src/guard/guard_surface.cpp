@@ -20,9 +20,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 // Area-weighted vertex normals (outward for an outward-oriented surface).
 std::vector<Vec3> vertex_normals(const TriMesh& surface) {
@@ -46,8 +44,8 @@ void check_guardable(const TriMesh& surface) {
     what += " non-manifold (" + std::to_string(report.non_manifold_edges) + " edges, " +
             std::to_string(report.non_manifold_vertices) + " vertices);";
   if (report.self_intersections + report.adjacent_overlaps > 0)
-    what += " self-intersecting (" + std::to_string(report.self_intersections + report.adjacent_overlaps) +
-            " face pairs);";
+    what +=
+        " self-intersecting (" + std::to_string(report.self_intersections + report.adjacent_overlaps) + " face pairs);";
   if (!report.oriented) what += " inconsistently oriented;";
   if (report.closed && report.oriented && report.signed_volume < 0) what += " oriented inward (negative volume);";
   if (report.degenerate_faces > 0) what += " " + std::to_string(report.degenerate_faces) + " degenerate faces;";
@@ -176,7 +174,8 @@ GuardResult guard_surface(const TriMesh& surface, const GuardOptions& options) {
   result.guards.resize(chosen.size());
   for (std::size_t g = 0; g < chosen.size(); ++g) result.guards[g].position = candidates[chosen[g]];
   for (std::size_t f = 0; f < faces; ++f)
-    if (result.face_guard[f] != kInvalidIndex) result.guards[result.face_guard[f]].faces.push_back(static_cast<Index>(f));
+    if (result.face_guard[f] != kInvalidIndex)
+      result.guards[result.face_guard[f]].faces.push_back(static_cast<Index>(f));
   // Guard graph: guards whose faces meet along a surface edge.
   const EdgeAdjacency edges = build_edges(surface);
   for (std::size_t e = 0; e < edges.edges.size(); ++e) {
@@ -184,7 +183,8 @@ GuardResult guard_surface(const TriMesh& surface, const GuardOptions& options) {
     for (std::size_t i = 0; i < around.size(); ++i)
       for (std::size_t j = i + 1; j < around.size(); ++j) {
         const Index a = result.face_guard[around[i]], b = result.face_guard[around[j]];
-        if (a != b && a != kInvalidIndex && b != kInvalidIndex) result.graph.push_back({std::min(a, b), std::max(a, b)});
+        if (a != b && a != kInvalidIndex && b != kInvalidIndex)
+          result.graph.push_back({std::min(a, b), std::max(a, b)});
       }
   }
   std::sort(result.graph.begin(), result.graph.end());

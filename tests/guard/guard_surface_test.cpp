@@ -3,8 +3,8 @@
 #include "structmesh/guard.hpp"
 
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 namespace structmesh {
 namespace {
@@ -26,8 +26,8 @@ bool exact_sees(const TriMesh& mesh, const Vec3& p, Index v) {
   const K::Segment_3 segment(point(p), point(mesh.points[v]));
   for (const auto& t : mesh.triangles) {
     if (t[0] == v || t[1] == v || t[2] == v) continue;
-    if (CGAL::do_intersect(segment, K::Triangle_3(point(mesh.points[t[0]]), point(mesh.points[t[1]]),
-                                                  point(mesh.points[t[2]]))))
+    if (CGAL::do_intersect(segment,
+                           K::Triangle_3(point(mesh.points[t[0]]), point(mesh.points[t[1]]), point(mesh.points[t[2]]))))
       return false;
   }
   return true;
