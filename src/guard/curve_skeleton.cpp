@@ -5,12 +5,6 @@
 #include "structmesh/error.hpp"
 #include "structmesh/skeleton.hpp"
 
-// GCC 12 at -O1 with the sanitizers reports a boost::optional inside CGAL's
-// Side_of_triangle_mesh as maybe used uninitialized (a false positive in the
-// library's header, where an empty optional is returned); it would stop the
-// -Werror sanitizer build.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Mean_curvature_flow_skeletonization.h>
 #include <CGAL/Side_of_triangle_mesh.h>
@@ -18,7 +12,6 @@
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Count_stop_predicate.h>
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 #include <CGAL/extract_mean_curvature_flow_skeleton.h>
-#pragma GCC diagnostic pop
 
 #include <algorithm>
 #include <cmath>
