@@ -92,8 +92,16 @@ CurveSkeleton curve_skeleton(const TriMesh& surface, std::size_t max_vertices) {
 std::vector<Vec3> resample_skeleton(const CurveSkeleton& skeleton, double spacing) {
   if (!(spacing > 0)) throw InputError("resample_skeleton: the spacing must be positive");
   const std::size_t n = skeleton.nodes.size();
-  std::vector<std::vector<Index>> neighbours(n);
+  // Edges as sorted (low, high) pairs: edge_index() looks them up by binary search
+  // (a skeleton built by hand need not list them in order; found by ASan).
+  std::vector<std::array<Index, 2>> edges;
   for (const auto& [a, b] : skeleton.edges) {
+    if (a >= n || b >= n) throw InputError("resample_skeleton: an edge refers to a node past the last one");
+    edges.push_back({std::min(a, b), std::max(a, b)});
+  }
+  std::sort(edges.begin(), edges.end());
+  std::vector<std::vector<Index>> neighbours(n);
+  for (const auto& [a, b] : edges) {
     neighbours[a].push_back(b);
     neighbours[b].push_back(a);
   }
@@ -109,10 +117,9 @@ std::vector<Vec3> resample_skeleton(const CurveSkeleton& skeleton, double spacin
   std::vector<std::uint8_t> edge_done;
   const auto edge_index = [&](Index a, Index b) {
     const std::array<Index, 2> key{std::min(a, b), std::max(a, b)};
-    return static_cast<std::size_t>(std::lower_bound(skeleton.edges.begin(), skeleton.edges.end(), key) -
-                                    skeleton.edges.begin());
+    return static_cast<std::size_t>(std::lower_bound(edges.begin(), edges.end(), key) - edges.begin());
   };
-  edge_done.assign(skeleton.edges.size(), 0);
+  edge_done.assign(edges.size(), 0);
   const auto walk = [&](Index start, Index next) {
     std::vector<Index> path{start};
     Index previous = start, current = next;
