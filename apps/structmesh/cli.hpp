@@ -32,6 +32,7 @@ Action add_partition2d_command(CLI::App& command, const GlobalOptions& global);
 Action add_quad2d_command(CLI::App& command, const GlobalOptions& global);
 Action add_guard_command(CLI::App& command, const GlobalOptions& global);
 Action add_tetmesh_command(CLI::App& command, const GlobalOptions& global);
+Action add_star_command(CLI::App& command, const GlobalOptions& global);
 
 /// A region from a file (.geojson, .poly) or the built-in "key" / "pipe" with about
 /// `segments` boundary segments (0: the default); `polygon_choice` ("", an index or

@@ -59,6 +59,7 @@ int main(int argc, char** argv) {
       cli::add_tetmesh_command);
   add("guard", "Fewest interior guards that see every face of a closed surface or solid (§2.2)",
       cli::add_guard_command);
+  add("star", "Split a solid into star-shaped parts grown from its guards (§2.3)", cli::add_star_command);
 
   try {
     app.parse(argc, argv);

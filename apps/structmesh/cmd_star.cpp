@@ -1,0 +1,196 @@
+// structmesh star SOLID [--guards guards.json] -o parts.vtu: star decomposition (§2.3)
+// of a tet mesh (or of a closed surface, tetrahedralized first), seeded by the guards of
+// `structmesh guard` or, without --guards, by guards computed here.
+#include "cli.hpp"
+#include "structmesh/error.hpp"
+#include "structmesh/guard.hpp"
+#include "structmesh/io.hpp"
+#include "structmesh/progress.hpp"
+#include "structmesh/star.hpp"
+#include "structmesh/tetmesh.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+
+namespace structmesh::cli {
+
+namespace {
+
+std::vector<Vec3> read_guards(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open the guards file");
+  nlohmann::json json;
+  try {
+    in >> json;
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(path + ": not valid JSON (" + e.what() + ")");
+  }
+  if (!json.is_object() || !json.contains("guards") || !json["guards"].is_array())
+    throw InputError(path + ": expected an object with a \"guards\" array (the output of structmesh guard)");
+  std::vector<Vec3> guards;
+  for (std::size_t k = 0; k < json["guards"].size(); ++k) {
+    const auto& guard = json["guards"][k];
+    const auto* position = guard.is_object() && guard.contains("position") ? &guard["position"] : nullptr;
+    if (position == nullptr || !position->is_array() || position->size() != 3 || !(*position)[0].is_number() ||
+        !(*position)[1].is_number() || !(*position)[2].is_number())
+      throw InputError(path + ": guards[" + std::to_string(k) + "] has no \"position\": [x, y, z]");
+    guards.emplace_back((*position)[0].get<double>(), (*position)[1].get<double>(), (*position)[2].get<double>());
+    if (!guards.back().allFinite())
+      throw InputError(path + ": guards[" + std::to_string(k) + "] has a non-finite coordinate");
+  }
+  return guards;
+}
+
+}  // namespace
+
+Action add_star_command(CLI::App& command, const GlobalOptions& global) {
+  struct Settings {
+    std::string input, guards_path, method = "ilp";
+    std::vector<std::string> outputs;
+    StarOptions options;
+    double size = 0;
+  };
+  auto settings = std::make_shared<Settings>();
+  command
+      .add_option("SOLID", settings->input,
+                  "Tet mesh (.mesh .msh .vtu), or a closed surface (.obj .off .ply .stl) tetrahedralized first")
+      ->required();
+  command.add_option("--guards", settings->guards_path,
+                     "guards.json from structmesh guard (default: guard the solid's boundary here)");
+  command.add_option("--method", settings->method, "Guarding method when --guards is not given: greedy or ilp")
+      ->check(CLI::IsMember({"greedy", "ilp"}))
+      ->capture_default_str();
+  command
+      .add_option("-o,--output", settings->outputs,
+                  "parts.vtu (cell data part), parts.mesh (part id as the tet reference) or parts.msh; repeatable")
+      ->required();
+  command.add_flag("--strict", settings->options.strict,
+                   "Every part star-shaped (exactly): leftover tets are re-guarded instead of merged");
+  command
+      .add_option("--merge-max-tets", settings->options.merge_max_tets,
+                  "Without --strict: leftover components up to this many tets join a neighbouring part")
+      ->capture_default_str();
+  command
+      .add_option("--smooth", settings->options.smoothing_iterations,
+                  "Laplacian smoothing sweeps of the borders between parts (moves interior points only; keeps "
+                  "every star-shaped part star-shaped)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1000));
+  command.add_option("--size", settings->size, "Tet size when the input is a surface (0: its mean edge length)")
+      ->check(CLI::NonNegativeNumber);
+
+  return [&global, settings]() {
+    for (const std::string& output : settings->outputs) {
+      const FileFormat format = format_from_path(output);
+      if (format != FileFormat::Medit && format != FileFormat::Vtu && format != FileFormat::Msh)
+        throw InputError(output + ": star writes .vtu, .mesh or .msh");
+    }
+    const MeshBundle bundle = read_mesh(settings->input);
+    TetMesh solid;
+    if (!bundle.tets.empty()) {
+      solid = to_tet_mesh(bundle);
+    } else if (!bundle.triangles.empty() && bundle.quads.empty() && bundle.hexes.empty()) {
+      TetmeshOptions tet_options;
+      tet_options.size = settings->size;
+      if (!global.quiet) status("star: tetrahedralizing " + settings->input);
+      try {
+        solid = tetrahedralize(to_tri_mesh(bundle), tet_options).mesh;
+      } catch (const InputError& e) {
+        throw InputError(settings->input + ": " + e.what());
+      }
+    } else {
+      throw InputError(settings->input + ": star needs a tet mesh or a closed triangle surface");
+    }
+
+    std::vector<Vec3> guards;
+    double guard_seconds = 0;
+    if (!settings->guards_path.empty()) {
+      guards = read_guards(settings->guards_path);
+    } else {
+      GuardOptions guard_options;
+      guard_options.method = settings->method == "greedy" ? GuardMethod::Greedy : GuardMethod::Ilp;
+      guard_options.progress = !global.quiet;
+      const auto start = std::chrono::steady_clock::now();
+      try {
+        for (const Guard& guard : guard_surface(boundary_surface(solid), guard_options).guards)
+          guards.push_back(guard.position);
+      } catch (const InputError& e) {
+        throw InputError(settings->input + ": its boundary cannot be guarded: " + e.what());
+      }
+      guard_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+
+    StarOptions options = settings->options;
+    options.progress = !global.quiet;
+    StarResult result;
+    try {
+      result = star_decomposition(solid, guards, options);
+    } catch (const InputError& e) {
+      throw InputError(settings->input + ": " + e.what());
+    }
+
+    MeshBundle out;
+    out.points = result.points;
+    out.tets = solid.tets;
+    out.tet_labels.assign(result.tet_part.begin(), result.tet_part.end());
+    WriteOptions write;
+    DataArray part{"part", {}, out.tet_labels};
+    DataArray added{"added_guard", {}, {}};
+    for (const Index p : result.tet_part) added.i32.push_back(result.parts[p].added ? 1 : 0);
+    write.cell_data = {std::move(part), std::move(added)};
+    for (const std::string& output : settings->outputs) write_mesh(output, out, write);
+
+    std::size_t star_parts = 0, added_parts = 0;
+    for (const StarPart& p : result.parts) {
+      star_parts += p.star_shaped;
+      added_parts += p.added;
+    }
+    char line[320];
+    std::snprintf(line, sizeof line,
+                  "%zu parts (%zu from the %zu guards, %zu added), %zu star-shaped; %.4f%% of part vertices visible "
+                  "from their guard; %zu tets merged",
+                  result.parts.size(), result.parts.size() - added_parts, guards.size(), added_parts, star_parts,
+                  100.0 * result.visible_fraction, result.merged_tets);
+    say(global, line);
+    for (const std::string& output : settings->outputs) say(global, "wrote " + output);
+
+    nlohmann::json parts = nlohmann::json::array();
+    for (const StarPart& p : result.parts)
+      parts.push_back({{"guard", {p.guard.x(), p.guard.y(), p.guard.z()}},
+                       {"added", p.added},
+                       {"tets", p.tets},
+                       {"volume", p.volume},
+                       {"vertices", p.vertices},
+                       {"visible_vertices", p.visible_vertices},
+                       {"visible_fraction", p.vertices ? double(p.visible_vertices) / double(p.vertices) : 1.0},
+                       {"kernel_violations", p.kernel_violations},
+                       {"star_shaped", p.star_shaped}});
+    nlohmann::json stages = nlohmann::json::object();
+    if (guard_seconds > 0) stages["guarding"] = guard_seconds;
+    for (const auto& [name, seconds] : result.stage_seconds) stages[name] = seconds;
+    write_json_report(global, {{"input", settings->input},
+                               {"outputs", settings->outputs},
+                               {"strict", settings->options.strict},
+                               {"tets", solid.tets.size()},
+                               {"points", solid.points.size()},
+                               {"guards", guards.size()},
+                               {"dropped_guards", result.dropped_guards},
+                               {"moved_guards", result.moved_guards},
+                               {"parts", parts},
+                               {"part_count", result.parts.size()},
+                               {"star_shaped_parts", star_parts},
+                               {"added_parts", added_parts},
+                               {"merged_tets", result.merged_tets},
+                               {"growth_rounds", result.growth_rounds},
+                               {"visible_fraction", result.visible_fraction},
+                               {"smoothed_vertices", result.smoothed_vertices},
+                               {"interface_area", {result.interface_area_before, result.interface_area_after}},
+                               {"stage_seconds", stages},
+                               {"peak_rss_mb", peak_rss_mb()}});
+    return 0;
+  };
+}
+
+}  // namespace structmesh::cli
