@@ -124,7 +124,7 @@ std::vector<Index> greedy_set_cover(const CompressedRows& sets, std::size_t elem
 ///    covered whenever that row is: removed;
 ///  - column dominance (rule 3): a column whose rows are a subset of another column's
 ///    is never needed: removed (of two equal columns the lower index is kept).
-/// Rule 4 (splitting into independent blocks) is not applied.
+/// Rule 4 (splitting into independent blocks) is applied by ilp_set_cover().
 /// Every optimal cover of the reduced instance plus the forced columns is an optimal
 /// cover of the input.
 struct SetCoverReduction {
@@ -147,11 +147,13 @@ struct IlpSetCoverResult {
   double lower_bound = 0;     // on the number of sets of any cover
   std::size_t rows_before = 0, rows_after = 0, columns_before = 0, columns_after = 0;
   std::size_t greedy_size = 0;  // size of the greedy cover of the reduced instance plus the forced sets
+  std::size_t blocks = 0;       // independent blocks of the reduced instance, solved one by one (rule 4)
   double seconds = 0;
 };
 
 /// Minimum set cover, ILP (2.2)-(2.3): min sum x_c subject to sum_{c covering e} x_c >= 1
-/// for every element e, x binary; after reduce_set_cover(), solved by COIN-OR CBC
+/// for every element e, x binary; after reduce_set_cover(), split into independent
+/// blocks (rule 4 of §2.2.3: sets linked through shared elements), each solved by COIN-OR CBC
 /// (stand-alone solver defaults, no log) within `time_limit_seconds` of wall time. CBC
 /// starts from the greedy cover, and the better of the two is returned, so a time-out
 /// still gives a cover (optimal = false, lower_bound from CBC's bound). InputError as

@@ -71,6 +71,59 @@ CbcOutcome solve_with_cbc(const CompressedRows& sets, std::size_t row_count, con
   return outcome;
 }
 
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// One independent piece of a set-cover instance (rule 4 of §2.2.3).
+struct Block {
+  std::vector<Index> columns;  // the block's sets, as ids of the instance it came from
+  CompressedRows sets;         // row k: the elements of set columns[k], renumbered 0..rows-1
+  std::size_t rows = 0;
+};
+
+// Connected components of the sets, two sets being linked when they share an element
+// (union-find over the sets, element by element).
+std::vector<Block> split_into_blocks(const CompressedRows& sets, std::size_t element_count) {
+  const std::size_t columns = sets.row_count();
+  std::vector<Index> parent(columns);
+  for (std::size_t c = 0; c < columns; ++c) parent[c] = static_cast<Index>(c);
+  const auto find = [&](Index c) {
+    while (parent[c] != c) c = parent[c] = parent[parent[c]];
+    return c;
+  };
+  std::vector<Index> first_set(element_count, kInvalidIndex);
+  for (std::size_t c = 0; c < columns; ++c)
+    for (const Index e : sets.row(c)) {
+      if (first_set[e] == kInvalidIndex) {
+        first_set[e] = static_cast<Index>(c);
+        continue;
+      }
+      const Index a = find(first_set[e]), b = find(static_cast<Index>(c));
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  std::vector<Index> block_of(columns, kInvalidIndex);
+  std::vector<Block> blocks;
+  std::vector<Index> local(element_count, kInvalidIndex);
+  for (std::size_t c = 0; c < columns; ++c) {
+    if (sets.row(c).empty()) continue;
+    const Index root = find(static_cast<Index>(c));
+    if (block_of[root] == kInvalidIndex) {
+      block_of[root] = static_cast<Index>(blocks.size());
+      blocks.emplace_back();
+    }
+    Block& block = blocks[block_of[root]];
+    block.columns.push_back(static_cast<Index>(c));
+    for (const Index e : sets.row(c)) {
+      if (local[e] == kInvalidIndex) local[e] = static_cast<Index>(block.rows++);
+      block.sets.items.push_back(local[e]);
+    }
+    block.sets.offsets.push_back(static_cast<Index>(block.sets.items.size()));
+  }
+  return blocks;
+}
+
 }  // namespace
 
 IlpSetCoverResult ilp_set_cover(const CompressedRows& sets, std::size_t element_count, double time_limit_seconds) {
@@ -84,25 +137,39 @@ IlpSetCoverResult ilp_set_cover(const CompressedRows& sets, std::size_t element_
 
   std::vector<Index> picked;  // positions in the reduced instance
   result.optimal = true;      // the reductions keep an optimum; nothing left to solve is optimal
+  std::size_t greedy_total = 0;
+  double bound_total = 0;
   if (reduction.rows_after > 0) {
-    const std::vector<Index> greedy = greedy_set_cover(reduction.reduced_sets, reduction.rows_after);
-    picked = greedy;
-    result.optimal = false;
-    if (time_limit_seconds > 0) {
-      CbcOutcome cbc = solve_with_cbc(reduction.reduced_sets, reduction.rows_after, greedy, time_limit_seconds);
-      if (!cbc.chosen.empty() && cbc.chosen.size() <= greedy.size() &&
-          covers_all(reduction.reduced_sets, reduction.rows_after, cbc.chosen)) {
-        picked = std::move(cbc.chosen);
-        result.optimal = cbc.optimal;
+    // Rule 4 of §2.2.3: the reduced instance splits into blocks (sets linked through
+    // shared elements) that are solved one by one; their optima add up.
+    const std::vector<Block> blocks = split_into_blocks(reduction.reduced_sets, reduction.rows_after);
+    result.blocks = blocks.size();
+    for (const Block& block : blocks) {
+      const std::vector<Index> greedy = greedy_set_cover(block.sets, block.rows);
+      greedy_total += greedy.size();
+      std::vector<Index> best = greedy;
+      bool block_optimal = false;
+      double block_bound = 1;
+      const double remaining = time_limit_seconds - seconds_since(started);
+      if (greedy.size() == 1) {
+        block_optimal = true;  // one set is the least a non-empty block needs
+      } else if (remaining > 0) {
+        CbcOutcome cbc = solve_with_cbc(block.sets, block.rows, greedy, remaining);
+        if (!cbc.chosen.empty() && cbc.chosen.size() <= greedy.size() && covers_all(block.sets, block.rows, cbc.chosen)) {
+          best = std::move(cbc.chosen);
+          block_optimal = cbc.optimal;
+        }
+        // A bound a hair above an integer is that integer (LP tolerances).
+        if (std::isfinite(cbc.bound)) block_bound = std::max(1.0, std::min<double>(std::ceil(cbc.bound - 1e-6), best.size()));
       }
-      // A bound a hair above an integer is that integer (LP tolerances).
-      if (std::isfinite(cbc.bound))
-        result.lower_bound = std::max(1.0, std::min<double>(std::ceil(cbc.bound - 1e-6), picked.size()));
+      if (block_optimal) block_bound = static_cast<double>(best.size());
+      result.optimal = result.optimal && block_optimal;
+      bound_total += block_bound;
+      for (const Index k : best) picked.push_back(block.columns[k]);
     }
-    result.greedy_size = reduction.forced.size() + greedy.size();
-  } else {
-    result.greedy_size = reduction.forced.size();
   }
+  result.greedy_size = reduction.forced.size() + greedy_total;
+  result.lower_bound = bound_total;
   result.chosen = reduction.forced;
   for (const Index k : picked) result.chosen.push_back(reduction.kept_columns[k]);
   std::sort(result.chosen.begin(), result.chosen.end());

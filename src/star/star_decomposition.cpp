@@ -588,6 +588,11 @@ StarResult star_decomposition(const TetMesh& solid, std::span<const Vec3> guards
   std::unique_ptr<Progress> progress;
   if (options.progress) progress = std::make_unique<Progress>("star: growing parts", tet_count);
   Grower grower(geometry, neighbors, result.tet_part, progress.get());
+  // All parts grow at once from one queue, a tet going to the first part that may
+  // take it. Growing them one after another (each as far as it can, in guard order)
+  // left half as many tets to re-guard on rocker-arm (38k against 76k of 307k) but
+  // split the U of the tests into 25 parts instead of 2: the first part takes all it
+  // sees, up to a jagged shadow boundary the next guard cannot grow against.
   for (std::size_t k = 0; k < seed_tets.size(); ++k) {
     result.parts.push_back({seed_guards[k], false, 0, 0, 0, 0, 0, false});
     grower.seed(static_cast<Index>(k), seed_tets[k], seed_guards[k]);
