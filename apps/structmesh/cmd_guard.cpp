@@ -34,8 +34,13 @@ Action add_guard_command(CLI::App& command, const GlobalOptions& global) {
   auto settings = std::make_shared<Settings>();
   command.add_option("INPUT", settings->input, "Closed surface (.obj .off .ply .stl) or tet mesh (.mesh .msh .vtu)")
       ->required();
-  command.add_option("--method", settings->method, "greedy or ilp (exact set cover with CBC, after reductions)")
-      ->check(CLI::IsMember({"greedy", "ilp"}));
+  command
+      .add_option(
+          "--method", settings->method,
+          "greedy, ilp (exact set cover with CBC, after reductions) or pilp (progressive ILP over coarse-to-fine "
+          "levels of the surface, §2.2.3)")
+      ->check(CLI::IsMember({"greedy", "ilp", "pilp"}))
+      ->capture_default_str();
   command
       .add_option("-o,--output", settings->outputs,
                   "guards.json (positions, faces, graph); a surface file (.vtu .ply .obj .off .mesh) coloured by guard")
@@ -49,11 +54,24 @@ Action add_guard_command(CLI::App& command, const GlobalOptions& global) {
       .add_option("--time-limit", settings->options.time_limit,
                   "ILP time limit in seconds (the best cover so far is kept)")
       ->check(CLI::PositiveNumber);
+  command
+      .add_option("--pilp-coarsest", settings->options.pilp_coarsest_vertices,
+                  "pilp: vertices of the coarsest level (finer levels add --pilp-step each)")
+      ->capture_default_str();
+  command.add_option("--pilp-step", settings->options.pilp_level_step, "pilp: vertices each finer level adds")
+      ->capture_default_str();
+  command
+      .add_option("--pilp-significance", settings->options.pilp_significance,
+                  "pilp: guards seeing less than this share of a level's area are re-examined")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
   return [&global, settings]() {
     const MeshBundle input = read_mesh(settings->input);
     const TriMesh surface = input.tets.empty() ? to_tri_mesh(input) : boundary_surface(to_tet_mesh(input));
     GuardOptions options = settings->options;
-    options.method = settings->method == "greedy" ? GuardMethod::Greedy : GuardMethod::Ilp;
+    options.method = settings->method == "greedy" ? GuardMethod::Greedy
+                     : settings->method == "pilp" ? GuardMethod::Pilp
+                                                  : GuardMethod::Ilp;
     options.progress = !global.quiet;
     const GuardResult result = guard_surface(surface, options);
 
@@ -94,6 +112,20 @@ Action add_guard_command(CLI::App& command, const GlobalOptions& global) {
                           {"ilp_columns", {result.columns_before, result.columns_after}},
                           {"graph_edges", result.graph.size()},
                           {"peak_rss_mb", peak_rss_mb()}};
+    nlohmann::json levels = nlohmann::json::array();
+    for (const PilpLevel& level : result.levels)
+      levels.push_back({{"vertices", level.vertices},
+                        {"faces", level.faces},
+                        {"kept", level.kept},
+                        {"dropped", level.dropped},
+                        {"universe", level.universe},
+                        {"added", level.added},
+                        {"guards", level.guards},
+                        {"optimal", level.optimal},
+                        {"seconds", level.seconds}});
+    report["pilp_levels"] = levels;
+    report["pilp_pruned"] = result.pilp_pruned;
+    report["pilp_exchanges"] = result.pilp_exchanges;
     nlohmann::json stages = nlohmann::json::object();
     for (const auto& [name, seconds] : result.stage_seconds) stages[name] = seconds;
     report["stage_seconds"] = stages;

@@ -43,8 +43,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> models;
   for (int i = 3; i < argc; ++i) models.emplace_back(argv[i]);
   if (models.empty())
-    models = {"torus.obj", "3holes.off", "eight.off", "kitten.off", "rocker-arm.obj", "fertility.off",
-              "bunny_hr.obj"};
+    models = {"torus.obj", "3holes.off", "eight.off", "kitten.off", "rocker-arm.obj", "fertility.off", "bunny_hr.obj"};
   std::printf(
       "| model | tets | guards (ILP) | parts, relaxed (added) | visible, relaxed | merged tets | parts, --strict "
       "(added) | star-shaped, --strict | tetmesh s | guard s | star s, relaxed | star s, --strict |\n");
@@ -72,11 +71,11 @@ int main(int argc, char** argv) {
       std::size_t added_relaxed = 0, added_strict = 0;
       for (const StarPart& p : relaxed.parts) added_relaxed += p.added;
       for (const StarPart& p : strict.parts) added_strict += p.added;
-      std::printf("| %s | %zu | %zu | %zu (%zu) | %.4f%% | %zu | %zu (%zu) | %zu of %zu | %.2f | %.2f | %.2f | %.2f |\n",
-                  name.c_str(), solid.tets.size(), guards.size(), relaxed.parts.size(), added_relaxed,
-                  100.0 * relaxed.visible_fraction, relaxed.merged_tets, strict.parts.size(), added_strict,
-                  star_parts(strict), strict.parts.size(), tet_seconds, guard_seconds, relaxed_seconds,
-                  strict_seconds);
+      std::printf(
+          "| %s | %zu | %zu | %zu (%zu) | %.4f%% | %zu | %zu (%zu) | %zu of %zu | %.2f | %.2f | %.2f | %.2f |\n",
+          name.c_str(), solid.tets.size(), guards.size(), relaxed.parts.size(), added_relaxed,
+          100.0 * relaxed.visible_fraction, relaxed.merged_tets, strict.parts.size(), added_strict, star_parts(strict),
+          strict.parts.size(), tet_seconds, guard_seconds, relaxed_seconds, strict_seconds);
     } catch (const std::exception& e) {
       std::printf("| %s | failed: %s | | | | | | | | | | |\n", name.c_str(), e.what());
     }

@@ -164,7 +164,7 @@ IlpSetCoverResult ilp_set_cover(const CompressedRows& sets, std::size_t element_
 // The whole guarding stage (§2.2): candidates from the curve skeleton, visibility,
 // set cover.
 
-enum class GuardMethod : std::uint8_t { Greedy, Ilp };
+enum class GuardMethod : std::uint8_t { Greedy, Ilp, Pilp };
 
 struct GuardOptions {
   GuardMethod method = GuardMethod::Ilp;
@@ -173,9 +173,21 @@ struct GuardOptions {
   /// The skeleton is computed on the surface simplified to this many vertices (0: the
   /// surface itself); visibility is always tested against the input surface.
   std::size_t skeleton_vertices = 10000;
-  /// CBC time limit of the ILP (seconds); the best cover found so far is kept.
+  /// CBC time limit of the ILP (seconds); the best cover found so far is kept. For the
+  /// progressive ILP, per level.
   double time_limit = 60;
+  /// Progressive ILP (§2.2.3): the coarsest level's vertex count, the vertices each
+  /// finer level adds (the dissertation's 5k and 10k), and the share of a level's
+  /// surface area below which a guard is insignificant and re-examined (its ε, 10%).
+  std::size_t pilp_coarsest_vertices = 5000;
+  std::size_t pilp_level_step = 10000;
+  double pilp_significance = 0.1;
   bool progress = false;
+  /// Candidate guards given by the caller instead of the skeleton's (those outside the
+  /// solid are left out; faces none of them sees still get extra candidates). With the
+  /// candidate_points of an earlier result, reruns share their candidates: CGAL's
+  /// skeleton is not repeatable within a process (it orders edges by address).
+  std::vector<Vec3> candidates;
 };
 
 struct Guard {
@@ -185,25 +197,42 @@ struct Guard {
   std::vector<Index> faces;
 };
 
+/// One level of the progressive ILP.
+struct PilpLevel {
+  std::size_t vertices = 0, faces = 0;  ///< of the level's surface
+  std::size_t kept = 0;                 ///< guards of coarser levels kept (significant)
+  std::size_t dropped = 0;              ///< ... re-examined (insignificant): back among the candidates
+  std::size_t universe = 0;             ///< faces left to cover
+  std::size_t added = 0;                ///< guards the level's ILP added
+  std::size_t guards = 0;               ///< after the level
+  bool optimal = false;                 ///< the level's ILP proved optimal
+  double seconds = 0;
+};
+
 struct GuardResult {
   std::vector<Guard> guards;
   std::vector<Index> face_guard;  ///< per input face: its guard (kInvalidIndex: seen by no candidate)
   /// Guards whose face sets share a surface edge (the guard graph of §2.4).
   std::vector<std::array<Index, 2>> graph;
   std::size_t skeleton_nodes = 0;
-  std::size_t candidates = 0;        ///< inside the solid, after resampling
-  std::size_t added_candidates = 0;  ///< inward offsets of vertices no skeleton point saw
-  std::size_t uncovered_faces = 0;   ///< seen by no candidate at all (left out of the cover)
-  std::size_t greedy_guards = 0;     ///< the greedy cover's size (always computed)
-  bool optimal = false;              ///< the ILP proved its cover minimal
-  double lower_bound = 0;            ///< the ILP's bound on the minimum
+  std::size_t candidates = 0;          ///< inside the solid, after resampling
+  std::vector<Vec3> candidate_points;  ///< every candidate (skeleton points, then added ones)
+  std::size_t added_candidates = 0;    ///< inward offsets of vertices no skeleton point saw
+  std::size_t uncovered_faces = 0;     ///< seen by no candidate at all (left out of the cover)
+  std::size_t greedy_guards = 0;       ///< the greedy cover's size (always computed)
+  bool optimal = false;                ///< the ILP proved its cover minimal
+  double lower_bound = 0;              ///< the ILP's bound on the minimum
   std::size_t rows_before = 0, rows_after = 0, columns_before = 0, columns_after = 0;
+  std::vector<PilpLevel> levels;   ///< progressive ILP only, coarsest first
+  std::size_t pilp_pruned = 0;     ///< progressive ILP: guards found redundant at the end
+  std::size_t pilp_exchanges = 0;  ///< progressive ILP: two guards replaced by one at the end
   std::vector<std::pair<std::string, double>> stage_seconds;
 };
 
 /// Fewest interior points that together see every face of a closed surface (§2.2):
 /// curve-skeleton candidates (resampled, joints kept, inside the solid), face
-/// visibility by VisibilityOracle, then the greedy or exact (ILP) set cover. Faces no
+/// visibility by VisibilityOracle, then the greedy, exact (ILP) or progressive (PILP:
+/// coarse-to-fine levels of the surface, see GuardOptions) set cover. Faces no
 /// skeleton point sees get candidates halfway between each of their vertices and the
 /// skeleton node that absorbed it, and just inside the vertex (the dissertation adds
 /// the invisible vertices themselves). InputError for an open, non-manifold,

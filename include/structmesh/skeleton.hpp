@@ -29,6 +29,12 @@ struct CurveSkeleton {
 /// vertex then goes to its nearest node. InputError for an open or non-manifold surface.
 CurveSkeleton curve_skeleton(const TriMesh& surface, std::size_t max_vertices = 0);
 
+/// The surface simplified by edge collapse (CGAL, Lindstrom-Turk) to about
+/// `max_vertices` vertices, keeping its topology; the surface itself when it has no more
+/// (or max_vertices is 0). The levels of the progressive ILP (§2.2.3). InputError as for
+/// curve_skeleton().
+TriMesh simplify_surface(const TriMesh& surface, std::size_t max_vertices);
+
 /// Points along the skeleton about `spacing` apart: every joint (degree != 2) and end is
 /// kept (§2.2.3: "re-sampled with joints preserved"), each branch between two of them is
 /// divided evenly by arc length. Nodes of a closed loop without joints are sampled from

@@ -54,8 +54,8 @@ struct StarPart {
   bool added = false;  ///< a guard placed for leftover tets (not one of the input guards)
   std::size_t tets = 0;
   double volume = 0;
-  std::size_t vertices = 0;          ///< distinct vertices of the part's tets
-  std::size_t visible_vertices = 0;  ///< of those, seen from the guard within the part
+  std::size_t vertices = 0;           ///< distinct vertices of the part's tets
+  std::size_t visible_vertices = 0;   ///< of those, seen from the guard within the part
   std::size_t kernel_violations = 0;  ///< boundary faces whose plane does not have the guard strictly inside
   bool star_shaped = false;           ///< kernel_violations == 0 (exact: the part is star-shaped w.r.t. its guard)
 };
@@ -63,16 +63,16 @@ struct StarPart {
 struct StarResult {
   std::vector<Index> tet_part;  ///< per tet: its part
   std::vector<StarPart> parts;
-  std::vector<Vec3> points;     ///< the mesh points after smoothing (the input points without it)
+  std::vector<Vec3> points;  ///< the mesh points after smoothing (the input points without it)
   std::size_t input_guards = 0;
-  std::size_t dropped_guards = 0;  ///< input guards outside the solid or in a tet another guard took
-  std::size_t moved_guards = 0;    ///< input guards on a face, edge or vertex, moved into a tet
-  std::size_t absorbed_tets = 0;   ///< leftover components a part took whole by the exact rule
-  std::size_t merged_tets = 0;     ///< leftover tets merged into a neighbouring part (not strict)
-  std::size_t growth_rounds = 0;   ///< 1 + rounds of re-guarding leftovers
+  std::size_t dropped_guards = 0;     ///< input guards outside the solid or in a tet another guard took
+  std::size_t moved_guards = 0;       ///< input guards on a face, edge or vertex, moved into a tet
+  std::size_t absorbed_tets = 0;      ///< leftover components a part took whole by the exact rule
+  std::size_t merged_tets = 0;        ///< leftover tets merged into a neighbouring part (not strict)
+  std::size_t growth_rounds = 0;      ///< 1 + rounds of re-guarding leftovers
   std::size_t smoothed_vertices = 0;  ///< inner-border vertices the smoothing moved
   double interface_area_before = 0, interface_area_after = 0;  ///< area of the faces between parts
-  double visible_fraction = 0;  ///< sum of visible_vertices / sum of vertices over parts
+  double visible_fraction = 0;                                 ///< sum of visible_vertices / sum of vertices over parts
   std::vector<std::pair<std::string, double>> stage_seconds;
 };
 

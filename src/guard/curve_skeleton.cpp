@@ -45,21 +45,44 @@ SurfaceMesh to_surface_mesh(const TriMesh& surface) {
   return mesh;
 }
 
+// Edge collapse (Lindstrom-Turk cost and placement, CGAL's default) keeps the shape
+// and, by the link condition, the topology; a closed surface has about three edges per
+// vertex.
+void collapse_to(SurfaceMesh& mesh, std::size_t max_vertices) {
+  namespace collapse = CGAL::Surface_mesh_simplification;
+  const collapse::Count_stop_predicate<SurfaceMesh> stop(3 * max_vertices);
+  collapse::edge_collapse(mesh, stop);
+  mesh.collect_garbage();
+}
+
 }  // namespace
+
+TriMesh simplify_surface(const TriMesh& surface, std::size_t max_vertices) {
+  if (surface.triangles.empty()) throw InputError("simplify_surface: the surface has no triangles");
+  if (max_vertices == 0 || surface.points.size() <= max_vertices) return surface;
+  SurfaceMesh mesh = to_surface_mesh(surface);
+  collapse_to(mesh, max_vertices);
+  TriMesh result;
+  result.points.reserve(mesh.number_of_vertices());
+  for (const auto v : mesh.vertices()) {
+    const Point& p = mesh.point(v);
+    result.points.emplace_back(p.x(), p.y(), p.z());
+  }
+  result.triangles.reserve(mesh.number_of_faces());
+  for (const auto f : mesh.faces()) {
+    std::array<Index, 3> triangle{};
+    int k = 0;
+    for (const auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) triangle[k++] = static_cast<Index>(v);
+    result.triangles.push_back(triangle);
+  }
+  return result;
+}
 
 CurveSkeleton curve_skeleton(const TriMesh& surface, std::size_t max_vertices) {
   if (surface.triangles.empty()) throw InputError("curve_skeleton: the surface has no triangles");
   SurfaceMesh mesh = to_surface_mesh(surface);
   const bool simplify = max_vertices > 0 && surface.points.size() > max_vertices;
-  if (simplify) {
-    // Edge collapse (Lindstrom-Turk cost and placement, CGAL's default) keeps the
-    // shape and, by the link condition, the topology; a closed surface has about three
-    // edges per vertex.
-    namespace collapse = CGAL::Surface_mesh_simplification;
-    const collapse::Count_stop_predicate<SurfaceMesh> stop(3 * max_vertices);
-    collapse::edge_collapse(mesh, stop);
-    mesh.collect_garbage();
-  }
+  if (simplify) collapse_to(mesh, max_vertices);
   using Skeletonization = CGAL::Mean_curvature_flow_skeletonization<SurfaceMesh>;
   Skeletonization::Skeleton skeleton;
   CGAL::extract_mean_curvature_flow_skeleton(mesh, skeleton);

@@ -53,6 +53,163 @@ void check_guardable(const TriMesh& surface) {
   throw InputError("guard: the surface does not bound a solid:" + what);
 }
 
+// Progressive ILP (§2.2.3): the surface simplified to coarse levels (the coarsest first,
+// then `step` more vertices per level, the input last). On each level the faces the
+// guards kept so far see are removed, guards that see less than `significance` of the
+// level's area are dropped back among the candidates (their faces stay in the
+// universe), and the ILP covers what is left; its guards join the kept ones. The
+// candidates are the same points on every level (the finest skeleton's), their rows
+// recomputed against each level's surface. Returns candidate ids, ascending.
+std::vector<Index> progressive_cover(const TriMesh& surface, const std::vector<Vec3>& candidates,
+                                     const CompressedRows& finest_rows, const GuardOptions& options,
+                                     GuardResult& result) {
+  std::vector<std::size_t> targets;
+  for (std::size_t n = options.pilp_coarsest_vertices; n > 0 && n < surface.points.size();
+       n += options.pilp_level_step) {
+    targets.push_back(n);
+    if (options.pilp_level_step == 0) break;
+  }
+  targets.push_back(0);  // the input itself
+  std::vector<Index> guards;
+  for (const std::size_t target : targets) {
+    const auto level_start = Clock::now();
+    PilpLevel level;
+    TriMesh simplified;
+    CompressedRows level_rows;
+    const TriMesh* level_surface = &surface;
+    const CompressedRows* rows = &finest_rows;
+    if (target > 0) {
+      try {
+        simplified = simplify_surface(surface, target);
+        const VisibilityOracle oracle(simplified);
+        level_rows = visible_faces(oracle, simplified, candidates);
+      } catch (const InputError&) {
+        continue;  // the collapse left degenerate faces: skip to the next level
+      }
+      level_surface = &simplified;
+      rows = &level_rows;
+    }
+    const std::size_t faces = level_surface->triangles.size();
+    level.vertices = level_surface->points.size();
+    level.faces = faces;
+    std::vector<double> area(faces);
+    double total_area = 0;
+    for (std::size_t f = 0; f < faces; ++f) {
+      const auto& t = level_surface->triangles[f];
+      const auto& p = level_surface->points;
+      area[f] = 0.5 * (p[t[1]] - p[t[0]]).cross(p[t[2]] - p[t[0]]).norm();
+      total_area += area[f];
+    }
+    // Significant guards stay and their faces leave the universe.
+    std::vector<std::uint8_t> covered(faces, 0);
+    std::vector<Index> kept;
+    for (const Index g : guards) {
+      double seen = 0;
+      for (const Index f : rows->row(g)) seen += area[f];
+      if (seen >= options.pilp_significance * total_area) {
+        kept.push_back(g);
+        for (const Index f : rows->row(g)) covered[f] = 1;
+      } else {
+        ++level.dropped;
+      }
+    }
+    level.kept = kept.size();
+    // The universe: faces some candidate sees that no kept guard sees, renumbered.
+    std::vector<Index> element(faces, kInvalidIndex);
+    Index universe = 0;
+    for (const Index f : rows->items)
+      if (!covered[f] && element[f] == kInvalidIndex) element[f] = universe++;
+    level.universe = universe;
+    std::vector<Index> added;
+    if (universe > 0) {
+      CompressedRows sub;
+      for (std::size_t c = 0; c < rows->row_count(); ++c) {
+        for (const Index f : rows->row(c))
+          if (element[f] != kInvalidIndex) sub.items.push_back(element[f]);
+        sub.offsets.push_back(static_cast<Index>(sub.items.size()));
+      }
+      const IlpSetCoverResult ilp = ilp_set_cover(sub, universe, options.time_limit);
+      level.optimal = ilp.optimal;
+      for (const Index c : ilp.chosen)
+        if (std::find(kept.begin(), kept.end(), c) == kept.end()) added.push_back(c);
+    } else {
+      level.optimal = true;
+    }
+    level.added = added.size();
+    guards = kept;
+    guards.insert(guards.end(), added.begin(), added.end());
+    std::sort(guards.begin(), guards.end());
+    level.guards = guards.size();
+    level.seconds = seconds_since(level_start);
+    result.levels.push_back(level);
+  }
+  // Guards of coarse levels that the finer ones made redundant: each, least-seeing
+  // first, goes if the others still cover every face some candidate sees.
+  std::vector<std::uint32_t> coverage(surface.triangles.size(), 0);
+  for (const Index g : guards)
+    for (const Index f : finest_rows.row(g)) ++coverage[f];
+  std::vector<Index> order = guards;
+  std::sort(order.begin(), order.end(),
+            [&](Index a, Index b) { return finest_rows.row(a).size() < finest_rows.row(b).size(); });
+  std::vector<Index> final_guards;
+  for (const Index g : order) {
+    const auto row = finest_rows.row(g);
+    if (std::all_of(row.begin(), row.end(), [&](Index f) { return coverage[f] > 1; })) {
+      for (const Index f : row) --coverage[f];
+      ++result.pilp_pruned;
+    } else {
+      final_guards.push_back(g);
+    }
+  }
+  // Then two-for-one exchanges (beyond the dissertation): two guards whose faces no
+  // other guard sees are replaced by one candidate that sees all of those faces, until
+  // no pair can be. Candidates for a pair are those seeing its first such face (the
+  // face -> candidates transpose), tested by binary search in their sorted rows.
+  std::vector<Index> face_offsets(surface.triangles.size() + 1, 0), face_candidates(finest_rows.items.size());
+  for (const Index f : finest_rows.items) ++face_offsets[f + 1];
+  for (std::size_t f = 0; f < surface.triangles.size(); ++f) face_offsets[f + 1] += face_offsets[f];
+  {
+    std::vector<Index> next(face_offsets.begin(), face_offsets.end() - 1);
+    for (std::size_t c = 0; c < finest_rows.row_count(); ++c)
+      for (const Index f : finest_rows.row(c)) face_candidates[next[f]++] = static_cast<Index>(c);
+  }
+  std::vector<Index> exclusive;
+  for (bool improved = true; improved;) {
+    improved = false;
+    for (std::size_t i = 0; i < final_guards.size() && !improved; ++i)
+      for (std::size_t j = i + 1; j < final_guards.size() && !improved; ++j) {
+        const auto a = finest_rows.row(final_guards[i]), b = finest_rows.row(final_guards[j]);
+        exclusive.clear();
+        std::set_union(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(exclusive));
+        std::erase_if(exclusive, [&](Index f) {
+          const std::uint32_t own =
+              std::binary_search(a.begin(), a.end(), f) + std::binary_search(b.begin(), b.end(), f);
+          return coverage[f] > own;
+        });
+        if (exclusive.empty()) continue;
+        const Index f0 = exclusive.front();
+        for (Index k = face_offsets[f0]; k < face_offsets[f0 + 1]; ++k) {
+          const Index c = face_candidates[k];
+          const auto row = finest_rows.row(c);
+          if (!std::all_of(exclusive.begin(), exclusive.end(),
+                           [&](Index f) { return std::binary_search(row.begin(), row.end(), f); }))
+            continue;
+          for (const Index f : a) --coverage[f];
+          for (const Index f : b) --coverage[f];
+          for (const Index f : row) ++coverage[f];
+          final_guards.erase(final_guards.begin() + static_cast<std::ptrdiff_t>(j));
+          final_guards[i] = c;
+          ++result.pilp_exchanges;
+          improved = true;
+          break;
+        }
+      }
+  }
+  std::sort(final_guards.begin(), final_guards.end());
+  final_guards.erase(std::unique(final_guards.begin(), final_guards.end()), final_guards.end());
+  return final_guards;
+}
+
 }  // namespace
 
 GuardResult guard_surface(const TriMesh& surface, const GuardOptions& options) {
@@ -65,14 +222,18 @@ GuardResult guard_surface(const TriMesh& surface, const GuardOptions& options) {
   check_guardable(surface);
   stage("check");
 
-  if (options.progress) status("guard: curve skeleton of " + std::to_string(surface.points.size()) + " vertices");
-  const CurveSkeleton skeleton = curve_skeleton(surface, options.skeleton_vertices);
+  CurveSkeleton skeleton;
+  if (options.candidates.empty()) {
+    if (options.progress) status("guard: curve skeleton of " + std::to_string(surface.points.size()) + " vertices");
+    skeleton = curve_skeleton(surface, options.skeleton_vertices);
+  }
   result.skeleton_nodes = skeleton.nodes.size();
   const double diagonal = surface.bounding_box().diagonal();
   const double spacing = options.spacing > 0 ? options.spacing : 0.01 * diagonal;
   std::vector<Vec3> candidates;
   {
-    const std::vector<Vec3> samples = resample_skeleton(skeleton, spacing);
+    const std::vector<Vec3> samples =
+        options.candidates.empty() ? resample_skeleton(skeleton, spacing) : options.candidates;
     const std::vector<std::uint8_t> inside = inside_solid(surface, samples);
     for (std::size_t i = 0; i < samples.size(); ++i)
       if (inside[i]) candidates.push_back(samples[i]);
@@ -108,7 +269,8 @@ GuardResult guard_surface(const TriMesh& surface, const GuardOptions& options) {
             offered[v] = 1;
             // Halfway to the skeleton node that absorbed v (inside when the flow moved v
             // inward, and seeing far more than a point next to v), and just inside v.
-            extra.push_back(0.5 * (surface.points[v] + skeleton.nodes[skeleton.vertex_node[v]]));
+            if (!skeleton.vertex_node.empty())
+              extra.push_back(0.5 * (surface.points[v] + skeleton.nodes[skeleton.vertex_node[v]]));
             extra.push_back(surface.points[v] - 0.2 * shortest[v] * normals[v]);
           }
     if (!extra.empty()) {
@@ -127,6 +289,7 @@ GuardResult guard_surface(const TriMesh& surface, const GuardOptions& options) {
     }
   }
   result.candidates = candidates.size();
+  result.candidate_points = candidates;
   stage("visibility");
 
   // The cover is over the faces some candidate sees; the rest are counted.
@@ -156,7 +319,14 @@ GuardResult guard_surface(const TriMesh& surface, const GuardOptions& options) {
     result.columns_before = ilp.columns_before;
     result.columns_after = ilp.columns_after;
   }
+  if (options.method == GuardMethod::Pilp) {
+    if (options.progress) status("guard: progressive ILP");
+    // The rows over the input's faces (cover_sets numbers only the coverable ones).
+    chosen = progressive_cover(surface, candidates, sets, options, result);
+  }
   std::sort(chosen.begin(), chosen.end());
+  if (!covers_all(cover_sets, coverable, chosen))
+    throw Error("guard_surface: the chosen guards miss a face some candidate sees (a bug)");
   stage("cover");
 
   // Face colouring: each face goes to the nearest chosen guard that sees it.

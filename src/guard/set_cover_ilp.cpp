@@ -71,7 +71,6 @@ CbcOutcome solve_with_cbc(const CompressedRows& sets, std::size_t row_count, con
   return outcome;
 }
 
-
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -155,12 +154,14 @@ IlpSetCoverResult ilp_set_cover(const CompressedRows& sets, std::size_t element_
         block_optimal = true;  // one set is the least a non-empty block needs
       } else if (remaining > 0) {
         CbcOutcome cbc = solve_with_cbc(block.sets, block.rows, greedy, remaining);
-        if (!cbc.chosen.empty() && cbc.chosen.size() <= greedy.size() && covers_all(block.sets, block.rows, cbc.chosen)) {
+        if (!cbc.chosen.empty() && cbc.chosen.size() <= greedy.size() &&
+            covers_all(block.sets, block.rows, cbc.chosen)) {
           best = std::move(cbc.chosen);
           block_optimal = cbc.optimal;
         }
         // A bound a hair above an integer is that integer (LP tolerances).
-        if (std::isfinite(cbc.bound)) block_bound = std::max(1.0, std::min<double>(std::ceil(cbc.bound - 1e-6), best.size()));
+        if (std::isfinite(cbc.bound))
+          block_bound = std::max(1.0, std::min<double>(std::ceil(cbc.bound - 1e-6), best.size()));
       }
       if (block_optimal) block_bound = static_cast<double>(best.size());
       result.optimal = result.optimal && block_optimal;

@@ -88,8 +88,8 @@ void check_input(const TetMesh& solid, const Geometry& geometry, const std::vect
   for (std::size_t t = 0; t < solid.tets.size(); ++t)
     for (const Index v : solid.tets[t])
       if (v >= solid.points.size())
-        throw InputError("star decomposition: tet " + std::to_string(t) + " uses point " + std::to_string(v) +
-                         " of " + std::to_string(solid.points.size()));
+        throw InputError("star decomposition: tet " + std::to_string(t) + " uses point " + std::to_string(v) + " of " +
+                         std::to_string(solid.points.size()));
   std::atomic<std::size_t> flat{std::numeric_limits<std::size_t>::max()};
   std::atomic<std::size_t> overlap{std::numeric_limits<std::size_t>::max()};
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, solid.tets.size()), [&](const auto& range) {
@@ -108,8 +108,8 @@ void check_input(const TetMesh& solid, const Geometry& geometry, const std::vect
         Index apex = kInvalidIndex;
         for (const Index w : solid.tets[n])
           if (w != f[0] && w != f[1] && w != f[2]) apex = w;
-        if (apex != kInvalidIndex && geometry.side(static_cast<Index>(t), i, p[apex]) ==
-                                         geometry.side(static_cast<Index>(t), i, p[tet[i]]))
+        if (apex != kInvalidIndex &&
+            geometry.side(static_cast<Index>(t), i, p[apex]) == geometry.side(static_cast<Index>(t), i, p[tet[i]]))
           overlap = std::min<std::size_t>(overlap, t);
       }
     }
@@ -370,7 +370,6 @@ void measure_parts(const Geometry& geometry, const std::vector<std::array<Index,
   result.visible_fraction = total_vertices ? double(total_visible) / double(total_vertices) : 1.0;
 }
 
-
 // Area of the faces between different parts.
 double interface_area(const TetMesh& mesh, const std::vector<std::array<Index, 4>>& neighbors,
                       const std::vector<Index>& tet_part) {
@@ -413,7 +412,8 @@ std::size_t smooth_inner_borders(TetMesh& mesh, Geometry& geometry, const std::v
     }
   std::sort(edges.begin(), edges.end());
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-  const CompressedRows vertex_tets = build_vertex_elements(std::span<const std::array<Index, 4>>(mesh.tets), point_count);
+  const CompressedRows vertex_tets =
+      build_vertex_elements(std::span<const std::array<Index, 4>>(mesh.tets), point_count);
   std::vector<std::uint8_t> moved(point_count, 0);
   std::vector<Point> guards;
   for (const StarPart& part : parts) guards.push_back(to_point(part.guard));
@@ -493,14 +493,15 @@ std::vector<std::array<Index, 4>> tet_neighbors(const TetMesh& solid) {
     }
   });
   tbb::parallel_sort(records.begin(), records.end());
-  std::vector<std::array<Index, 4>> neighbors(solid.tets.size(), {kInvalidIndex, kInvalidIndex, kInvalidIndex, kInvalidIndex});
+  std::vector<std::array<Index, 4>> neighbors(solid.tets.size(),
+                                              {kInvalidIndex, kInvalidIndex, kInvalidIndex, kInvalidIndex});
   for (std::size_t k = 0; k < records.size();) {
     std::size_t end = k + 1;
     while (end < records.size() && records[end].face == records[k].face) ++end;
     if (end - k > 2)
       throw InputError("tet mesh: face (" + std::to_string(records[k].face[0]) + ", " +
-                       std::to_string(records[k].face[1]) + ", " + std::to_string(records[k].face[2]) + ") belongs to " +
-                       std::to_string(end - k) + " tets (non-manifold)");
+                       std::to_string(records[k].face[1]) + ", " + std::to_string(records[k].face[2]) +
+                       ") belongs to " + std::to_string(end - k) + " tets (non-manifold)");
     if (end - k == 2) {
       const std::uint64_t a = records[k].slot, b = records[k + 1].slot;
       neighbors[a / 4][a % 4] = static_cast<Index>(b / 4);
@@ -562,8 +563,10 @@ StarResult star_decomposition(const TetMesh& solid, std::span<const Vec3> guards
         const auto& [lo, hi] = boxes[t];
         if ((guard.array() < lo.array()).any() || (guard.array() > hi.array()).any()) continue;
         const int c = geometry.containment(static_cast<Index>(t), g);
-        if (c == 4) inside = static_cast<Index>(t);
-        else if (c >= 0) touching = static_cast<Index>(t);
+        if (c == 4)
+          inside = static_cast<Index>(t);
+        else if (c >= 0)
+          touching = static_cast<Index>(t);
       }
     });
     Index seed = inside;
@@ -635,7 +638,8 @@ StarResult star_decomposition(const TetMesh& solid, std::span<const Vec3> guards
           }
         return true;
       });
-      const bool merge = whole != order.end() || (!options.strict && tets.size() <= options.merge_max_tets && !order.empty());
+      const bool merge =
+          whole != order.end() || (!options.strict && tets.size() <= options.merge_max_tets && !order.empty());
       if (merge) {
         const Index part = whole != order.end() ? *whole : order.front();
         for (const Index t : tets) result.tet_part[t] = part;

@@ -84,6 +84,41 @@ TEST(GuardSurface, UShapeNeedsTwoAndIlpIsNoWorseThanGreedy) {
   EXPECT_EQ(result.graph.size(), 1u);
 }
 
+TEST(GuardSurface, ProgressiveIlpCoversEveryFaceThroughItsLevels) {
+  // A ring of 12 cubes (a torus of genus 1) at 1,152 vertices, with levels of 300, 600
+  // and 900 vertices before the input, so every level runs.
+  std::vector<test::Cell> ring;
+  for (int x = 0; x < 4; ++x)
+    for (int y = 0; y < 4; ++y)
+      if (x == 0 || x == 3 || y == 0 || y == 3) ring.push_back({x, y, 0});
+  const TriMesh torus = voxel_surface(ring, 4);
+  GuardOptions options;
+  options.method = GuardMethod::Pilp;
+  options.pilp_coarsest_vertices = 300;
+  options.pilp_level_step = 300;
+  const GuardResult pilp = guard_surface(torus, options);
+  EXPECT_EQ(pilp.uncovered_faces, 0u);
+  expect_every_face_seen_exactly(torus, pilp);
+  ASSERT_GE(pilp.levels.size(), 2u);
+  EXPECT_LE(pilp.levels.front().vertices, 400u);
+  EXPECT_EQ(pilp.levels.back().vertices, torus.points.size());
+  for (std::size_t i = 1; i < pilp.levels.size(); ++i) EXPECT_GT(pilp.levels[i].vertices, pilp.levels[i - 1].vertices);
+  for (const PilpLevel& level : pilp.levels) {
+    EXPECT_EQ(level.guards, level.kept + level.added);
+    EXPECT_LE(level.universe, level.faces);
+  }
+  EXPECT_EQ(pilp.guards.size() + pilp.pilp_pruned + pilp.pilp_exchanges, pilp.levels.back().guards);
+  EXPECT_FALSE(pilp.optimal);  // PILP proves nothing about the whole
+  // Against the exact optimum on the same candidates: no better, and at most greedy.
+  options.method = GuardMethod::Ilp;
+  options.candidates = pilp.candidate_points;
+  const GuardResult ilp = guard_surface(torus, options);
+  ASSERT_TRUE(ilp.optimal);
+  EXPECT_EQ(ilp.candidates, pilp.candidates);
+  EXPECT_GE(pilp.guards.size(), ilp.guards.size());
+  EXPECT_LE(pilp.guards.size(), pilp.greedy_guards + 1);
+}
+
 TEST(GuardSurface, BadSurfacesAreRejectedWithTheReason) {
   TriMesh open = voxel_surface({{0, 0, 0}}, 2);
   open.triangles.pop_back();

@@ -32,7 +32,8 @@ TetMesh kuhn_tets(const std::vector<Cell>& cells) {
     const Index o = v(0, 0, 0), d = v(1, 1, 1);
     const Index x = v(1, 0, 0), y = v(0, 1, 0), z = v(0, 0, 1);
     const Index xy = v(1, 1, 0), xz = v(1, 0, 1), yz = v(0, 1, 1);
-    for (const auto& [a, b] : std::vector<std::pair<Index, Index>>{{x, xy}, {x, xz}, {y, xy}, {y, yz}, {z, xz}, {z, yz}})
+    for (const auto& [a, b] :
+         std::vector<std::pair<Index, Index>>{{x, xy}, {x, xz}, {y, xy}, {y, yz}, {z, xz}, {z, yz}})
       mesh.tets.push_back({o, a, b, d});
   }
   return mesh;
@@ -81,11 +82,10 @@ void expect_star_shaped(const TetMesh& mesh, const StarResult& result) {
       if (result.tet_part[t] != part) continue;
       const auto& tet = mesh.tets[t];
       vertices.insert(tet.begin(), tet.end());
-      holds_guard = holds_guard || CGAL::do_intersect(K::Tetrahedron_3(point(mesh.points[tet[0]]),
-                                                                          point(mesh.points[tet[1]]),
-                                                                          point(mesh.points[tet[2]]),
-                                                                          point(mesh.points[tet[3]])),
-                                                        g);
+      holds_guard =
+          holds_guard || CGAL::do_intersect(K::Tetrahedron_3(point(mesh.points[tet[0]]), point(mesh.points[tet[1]]),
+                                                             point(mesh.points[tet[2]]), point(mesh.points[tet[3]])),
+                                            g);
     }
     EXPECT_TRUE(holds_guard) << "part " << part << " does not contain its guard";
     for (const Index v : vertices) {
@@ -250,8 +250,7 @@ TEST(StarDecomposition, StrictTorusPartsAreStarShaped) {
   for (const StarPart& part : result.parts) {
     EXPECT_TRUE(part.star_shaped);
     EXPECT_EQ(part.visible_vertices, part.vertices);
-    EXPECT_EQ(kernel_violations(torus, result.tet_part,
-                                static_cast<Index>(&part - result.parts.data()), part.guard),
+    EXPECT_EQ(kernel_violations(torus, result.tet_part, static_cast<Index>(&part - result.parts.data()), part.guard),
               0u);
   }
   EXPECT_DOUBLE_EQ(result.visible_fraction, 1.0);
@@ -278,7 +277,9 @@ TEST(StarDecomposition, SmoothingShrinksTheBordersAndKeepsPartsStarShaped) {
   for (std::size_t t = 0; t < torus.tets.size(); ++t) {
     const auto volume = [&](const TetMesh& m) {
       const auto& q = m.tets[t];
-      return (m.points[q[1]] - m.points[q[0]]).cross(m.points[q[2]] - m.points[q[0]]).dot(m.points[q[3]] - m.points[q[0]]);
+      return (m.points[q[1]] - m.points[q[0]])
+          .cross(m.points[q[2]] - m.points[q[0]])
+          .dot(m.points[q[3]] - m.points[q[0]]);
     };
     EXPECT_GT(volume(torus) * volume(smoothed), 0.0) << "tet " << t << " flipped or flattened";
   }
