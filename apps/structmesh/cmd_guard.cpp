@@ -1,10 +1,12 @@
 // structmesh guard SURFACE|SOLID: fewest interior guards that see every boundary face
 // (§2.2), with the per-face guard colouring and the guard graph.
 #include "cli.hpp"
+#include "structmesh/check.hpp"
 #include "structmesh/error.hpp"
 #include "structmesh/guard.hpp"
 #include "structmesh/io.hpp"
 #include "structmesh/progress.hpp"
+#include "structmesh/tetmesh.hpp"
 
 #include <filesystem>
 #include <memory>
@@ -30,6 +32,7 @@ Action add_guard_command(CLI::App& command, const GlobalOptions& global) {
     std::string input, method = "ilp";
     std::vector<std::string> outputs;
     GuardOptions options;
+    bool repair = false;
   };
   auto settings = std::make_shared<Settings>();
   command.add_option("INPUT", settings->input, "Closed surface (.obj .off .ply .stl) or tet mesh (.mesh .msh .vtu)")
@@ -65,15 +68,44 @@ Action add_guard_command(CLI::App& command, const GlobalOptions& global) {
                   "pilp: guards seeing less than this share of a level's area are re-examined")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
+  command.add_flag("--repair", settings->repair,
+                   "Close holes (the faces of guards.json then index the closed surface: the input's triangles "
+                   "first), turn an inward surface outward, and guard across self-intersections");
   return [&global, settings]() {
     const MeshBundle input = read_mesh(settings->input);
-    const TriMesh surface = input.tets.empty() ? to_tri_mesh(input) : boundary_surface(to_tet_mesh(input));
+    TriMesh surface = input.tets.empty() ? to_tri_mesh(input) : boundary_surface(to_tet_mesh(input));
     GuardOptions options = settings->options;
+    nlohmann::json repaired = nullptr;
+    if (settings->repair) {
+      HoleFilling filled;
+      try {
+        filled = fill_holes(surface);
+      } catch (const InputError& e) {
+        throw InputError(settings->input + ": --repair: " + e.what());
+      }
+      surface = std::move(filled.surface);
+      const bool flip = enclosed_volume(surface) < 0;
+      if (flip)
+        for (auto& t : surface.triangles) std::swap(t[1], t[2]);
+      options.allow_self_intersections = true;
+      repaired = {{"holes_filled", filled.holes}, {"faces_added", filled.added_faces}, {"flipped", flip}};
+      if (filled.holes > 0 || flip)
+        say(global, "--repair: " + std::to_string(filled.holes) + " holes closed with " +
+                        std::to_string(filled.added_faces) + " faces" + (flip ? "; surface turned outward" : ""));
+    }
     options.method = settings->method == "greedy" ? GuardMethod::Greedy
                      : settings->method == "pilp" ? GuardMethod::Pilp
                                                   : GuardMethod::Ilp;
     options.progress = !global.quiet;
-    const GuardResult result = guard_surface(surface, options);
+    GuardResult result;
+    try {
+      result = guard_surface(surface, options);
+    } catch (const InputError& e) {
+      throw InputError(settings->input + ": " + e.what());
+    }
+    if (result.self_intersections > 0)
+      say(global, "--repair: guarding across " + std::to_string(result.self_intersections) +
+                      " self-intersecting face pairs (visibility as the surface is)");
 
     for (const std::string& output : settings->outputs) {
       if (std::filesystem::path(output).extension() == ".json") {
@@ -111,6 +143,8 @@ Action add_guard_command(CLI::App& command, const GlobalOptions& global) {
                           {"ilp_rows", {result.rows_before, result.rows_after}},
                           {"ilp_columns", {result.columns_before, result.columns_after}},
                           {"graph_edges", result.graph.size()},
+                          {"repaired", repaired},
+                          {"self_intersections", result.self_intersections},
                           {"peak_rss_mb", peak_rss_mb()}};
     nlohmann::json levels = nlohmann::json::array();
     for (const PilpLevel& level : result.levels)

@@ -52,6 +52,18 @@ struct CheckOptions {
 
 SurfaceReport check_surface(const MeshBundle& mesh, const CheckOptions& options = {});
 
+/// A surface with its holes closed (fill_holes()).
+struct HoleFilling {
+  TriMesh surface;  ///< the input's points and triangles first, unchanged; new ones after them
+  std::size_t holes = 0, added_faces = 0, added_vertices = 0;
+};
+
+/// Closes every hole (border cycle) of a manifold, consistently oriented triangle surface
+/// with CGAL's minimum-area hole triangulation (no new vertices), or, where that fails,
+/// a fan around the hole's centroid. InputError for a non-manifold or inconsistently
+/// oriented surface. Self-intersections are neither looked for nor removed.
+HoleFilling fill_holes(const TriMesh& surface);
+
 struct VolumeReport {
   std::size_t vertices = 0, tets = 0, hexes = 0, quads = 0, triangles = 0;
   std::size_t inverted = 0;            // tets with volume <= 1e-12 (longest edge)^3, hexes with scaled Jacobian <= 0

@@ -183,6 +183,11 @@ struct GuardOptions {
   std::size_t pilp_level_step = 10000;
   double pilp_significance = 0.1;
   bool progress = false;
+  /// Guard a surface that intersects itself (scanned models such as the TOSCA ones)
+  /// instead of refusing it: visibility is then taken against the surface as it is,
+  /// and inside tests count ray crossings. It must still be closed, manifold and
+  /// outward-oriented (fill_holes() of check.hpp closes holes).
+  bool allow_self_intersections = false;
   /// Candidate guards given by the caller instead of the skeleton's (those outside the
   /// solid are left out; faces none of them sees still get extra candidates). With the
   /// candidate_points of an earlier result, reruns share their candidates: CGAL's
@@ -219,6 +224,7 @@ struct GuardResult {
   std::vector<Vec3> candidate_points;  ///< every candidate (skeleton points, then added ones)
   std::size_t added_candidates = 0;    ///< inward offsets of vertices no skeleton point saw
   std::size_t uncovered_faces = 0;     ///< seen by no candidate at all (left out of the cover)
+  std::size_t self_intersections = 0;  ///< face pairs that cross (allow_self_intersections only)
   std::size_t greedy_guards = 0;       ///< the greedy cover's size (always computed)
   bool optimal = false;                ///< the ILP proved its cover minimal
   double lower_bound = 0;              ///< the ILP's bound on the minimum

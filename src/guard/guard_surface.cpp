@@ -34,10 +34,15 @@ std::vector<Vec3> vertex_normals(const TriMesh& surface) {
   return normals;
 }
 
-void check_guardable(const TriMesh& surface) {
+// Returns the number of self-intersecting face pairs (0 unless they are allowed).
+std::size_t check_guardable(const TriMesh& surface, bool allow_self_intersections) {
   if (surface.triangles.empty()) throw InputError("guard: the surface has no triangles");
   const SurfaceReport report = check_surface(to_bundle(surface));
-  if (report.valid_solid_boundary) return;
+  if (report.valid_solid_boundary) return 0;
+  const std::size_t crossings = report.self_intersections + report.adjacent_overlaps;
+  if (allow_self_intersections && report.closed && report.non_manifold_edges + report.non_manifold_vertices == 0 &&
+      report.oriented && report.signed_volume > 0 && report.degenerate_faces == 0)
+    return crossings;
   std::string what;
   if (!report.closed) what += " open (" + std::to_string(report.boundary_edges) + " boundary edges);";
   if (report.non_manifold_edges + report.non_manifold_vertices > 0)
@@ -50,7 +55,9 @@ void check_guardable(const TriMesh& surface) {
   if (report.closed && report.oriented && report.signed_volume < 0) what += " oriented inward (negative volume);";
   if (report.degenerate_faces > 0) what += " " + std::to_string(report.degenerate_faces) + " degenerate faces;";
   if (!report.problems.empty()) what += " first problem: " + report.problems.front().message;
-  throw InputError("guard: the surface does not bound a solid:" + what);
+  throw InputError("guard: the surface does not bound a solid:" + what +
+                   " (structmesh guard --repair closes holes, turns an inward surface and guards across "
+                   "self-intersections)");
 }
 
 // Progressive ILP (§2.2.3): the surface simplified to coarse levels (the coarsest first,
@@ -219,7 +226,7 @@ GuardResult guard_surface(const TriMesh& surface, const GuardOptions& options) {
     result.stage_seconds.emplace_back(name, seconds_since(start));
     start = Clock::now();
   };
-  check_guardable(surface);
+  result.self_intersections = check_guardable(surface, options.allow_self_intersections);
   stage("check");
 
   CurveSkeleton skeleton;

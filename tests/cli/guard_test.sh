@@ -50,6 +50,18 @@ status=$?
 [[ $status -eq 2 ]] || fail "open surface: exit $status, expected 2"
 grep -q "open" "$work/open.err" || fail "open surface: no 'open' in: $(cat "$work/open.err")"
 [[ ! -e "$work/open.json" ]] || fail "open surface: an output was written"
+# --repair closes the hole (two triangles) and guards the closed surface.
+"$sm" guard "$work/open.off" --repair -o "$work/repaired.json" --json "$work/repaired_report.json" --quiet ||
+  fail "guard --repair on an open surface exited $?"
+python3 - "$work" <<'END' || fail "guard --repair outputs"
+import json, sys
+work = sys.argv[1]
+report = json.load(open(f"{work}/repaired_report.json"))
+assert report["repaired"]["holes_filled"] == 1 and report["repaired"]["faces_added"] == 2, report["repaired"]
+assert report["faces"] == 4 and report["guards"] == 1 and report["uncovered_faces"] == 0
+guards = json.load(open(f"{work}/repaired.json"))["guards"]
+assert sorted(f for g in guards for f in g["faces"]) == [0, 1, 2, 3]
+END
 "$sm" guard "$work/missing.obj" -o "$work/missing.json" 2>/dev/null
 status=$?
 [[ $status -eq 2 ]] || fail "missing file: exit $status, expected 2"

@@ -119,6 +119,33 @@ TEST(GuardSurface, ProgressiveIlpCoversEveryFaceThroughItsLevels) {
   EXPECT_LE(pilp.guards.size(), pilp.greedy_guards + 1);
 }
 
+TEST(GuardSurface, SelfIntersectingSurfaceOnlyWhenAllowed) {
+  // Two unit cubes overlapping by half along each axis: closed, manifold, outward, but
+  // their surfaces cross.
+  TriMesh both = voxel_surface({{0, 0, 0}}, 2);
+  const TriMesh second = voxel_surface({{0, 0, 0}}, 2);
+  const auto offset = static_cast<Index>(both.points.size());
+  for (const Vec3& p : second.points) both.points.push_back(p + Vec3(0.5, 0.5, 0.5));
+  for (const auto& t : second.triangles) both.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  try {
+    guard_surface(both);
+    FAIL() << "a self-intersecting surface was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("self-intersecting"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--repair"), std::string::npos) << e.what();
+  }
+  GuardOptions options;
+  options.allow_self_intersections = true;
+  const GuardResult result = guard_surface(both, options);
+  EXPECT_GT(result.self_intersections, 0u);
+  EXPECT_GE(result.guards.size(), 1u);
+  for (std::size_t f = 0; f < both.triangles.size(); ++f)
+    if (result.face_guard[f] != kInvalidIndex) {
+      const auto& faces = result.guards[result.face_guard[f]].faces;
+      EXPECT_TRUE(std::binary_search(faces.begin(), faces.end(), static_cast<Index>(f)));
+    }
+}
+
 TEST(GuardSurface, BadSurfacesAreRejectedWithTheReason) {
   TriMesh open = voxel_surface({{0, 0, 0}}, 2);
   open.triangles.pop_back();
