@@ -40,6 +40,10 @@ struct StarOptions {
   /// fewer, slightly imperfect parts), and only larger ones are re-guarded.
   bool strict = false;
   std::size_t merge_max_tets = 64;
+  /// Leftover components of at most this many tets first try to join a neighbouring
+  /// part with interior vertices moved so that the rule holds again (exactly
+  /// star-shaped; both modes). 0: never.
+  std::size_t repair_max_tets = 4096;
   /// Laplacian smoothing sweeps of the inner borders (§2.3): each vertex on an
   /// interface between parts, off the solid's boundary, moves towards the mean of its
   /// interface neighbours, a move being kept only when no tet around it inverts and
@@ -65,12 +69,14 @@ struct StarResult {
   std::vector<StarPart> parts;
   std::vector<Vec3> points;  ///< the mesh points after smoothing (the input points without it)
   std::size_t input_guards = 0;
-  std::size_t dropped_guards = 0;     ///< input guards outside the solid or in a tet another guard took
-  std::size_t moved_guards = 0;       ///< input guards on a face, edge or vertex, moved into a tet
-  std::size_t absorbed_tets = 0;      ///< leftover components a part took whole by the exact rule
-  std::size_t merged_tets = 0;        ///< leftover tets merged into a neighbouring part (not strict)
-  std::size_t growth_rounds = 0;      ///< 1 + rounds of re-guarding leftovers
-  std::size_t smoothed_vertices = 0;  ///< inner-border vertices the smoothing moved
+  std::size_t dropped_guards = 0;      ///< input guards outside the solid or in a tet another guard took
+  std::size_t moved_guards = 0;        ///< input guards on a face, edge or vertex, moved into a tet
+  std::size_t absorbed_tets = 0;       ///< leftover components a part took whole by the exact rule
+  std::size_t repaired_tets = 0;       ///< leftover tets joined to a part after moving vertices restored the rule
+  std::size_t merged_tets = 0;         ///< leftover tets merged into a neighbouring part regardless (not strict)
+  std::size_t relocated_vertices = 0;  ///< interior vertices moved to restore the rule
+  std::size_t growth_rounds = 0;       ///< 1 + rounds of re-guarding leftovers
+  std::size_t smoothed_vertices = 0;   ///< inner-border vertices the smoothing moved
   double interface_area_before = 0, interface_area_after = 0;  ///< area of the faces between parts
   double visible_fraction = 0;                                 ///< sum of visible_vertices / sum of vertices over parts
   std::vector<std::pair<std::string, double>> stage_seconds;

@@ -475,6 +475,215 @@ std::size_t smooth_inner_borders(TetMesh& mesh, Geometry& geometry, const std::v
   return static_cast<std::size_t>(std::count(moved.begin(), moved.end(), 1));
 }
 
+// Moves interior vertices to repair violations of the growth rule (beyond the
+// dissertation, which relaxes the rule and then smooths). Around a vertex at position
+// q every constraint is affine in q: an incident tet keeps its orientation
+// (det(x - q, y - q, z - q) keeps its sign), and a part-boundary face (q, a, b) of a
+// tet with fourth vertex w keeps the part's guard g on the tet's side (det(a - q, b - q,
+// g - q) has the sign of det(a - q, b - q, w - q), which the first kind fixes). So the
+// admissible positions form a convex polyhedron; alternating projections onto the
+// violated half-spaces find a point in it when there is one near. The move is then
+// checked with exact predicates and kept only if no tet changes orientation and the
+// violated faces around the vertex become a strict subset of what they were.
+class Relocator {
+ public:
+  Relocator(TetMesh& mesh, Geometry& geometry, const std::vector<std::array<Index, 4>>& neighbors,
+            const std::vector<Index>& tet_part)
+      : mesh_(mesh),
+        geometry_(geometry),
+        neighbors_(neighbors),
+        tet_part_(tet_part),
+        vertex_tets_(build_vertex_elements(std::span<const std::array<Index, 4>>(mesh.tets), mesh.points.size())),
+        fixed_(mesh.points.size(), 0) {
+    for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+      for (int i = 0; i < 4; ++i)
+        if (neighbors[t][i] == kInvalidIndex)
+          for (const Index v : face_opposite(mesh.tets[t], i)) fixed_[v] = 1;  // the solid's boundary stays
+  }
+
+  void set_guards(const std::vector<StarPart>& parts) {
+    guards_.clear();
+    guard_points_.clear();
+    for (const StarPart& part : parts) {
+      guards_.push_back(part.guard);
+      guard_points_.push_back(to_point(part.guard));
+    }
+  }
+
+  // Violated part-boundary faces (tet * 4 + face) among the faces through v, ascending.
+  void violations_around(Index v, std::vector<std::uint64_t>& out) const {
+    out.clear();
+    for (const Index t : vertex_tets_.row(v)) {
+      const Index part = tet_part_[t];
+      if (part == kInvalidIndex) continue;
+      for (int i = 0; i < 4; ++i) {
+        if (mesh_.tets[t][i] == v) continue;  // the face opposite v does not move with it
+        const Index n = neighbors_[t][i];
+        if (n != kInvalidIndex && tet_part_[n] == part) continue;
+        if (!geometry_.inner_side(t, i, guard_points_[part])) out.push_back(4 * std::uint64_t{t} + std::uint64_t(i));
+      }
+    }
+  }
+
+  // Tries to move v; true when it moved. Moves are logged for undo().
+  bool relocate(Index v) {
+    if (fixed_[v]) return false;
+    violations_around(v, before_);
+    if (before_.empty()) return false;
+    const Vec3 start = mesh_.points[v];
+    signs_before_.clear();
+    for (const Index t : vertex_tets_.row(v)) signs_before_.push_back(tet_sign(t));
+    // The half-spaces u . (q - o) > 0 around v.
+    normals_.clear();
+    origins_.clear();
+    double shortest = std::numeric_limits<double>::infinity();
+    for (const Index t : vertex_tets_.row(v)) {
+      const auto& tet = mesh_.tets[t];
+      int k = 0;
+      while (tet[k] != v) ++k;
+      for (int i = 0; i < 4; ++i)
+        if (i != k) shortest = std::min(shortest, (mesh_.points[tet[i]] - start).norm());
+      // Orientation: det(x - q, y - q, z - q) = -N . (q - x), N = (y - x) x (z - x).
+      const auto f = face_opposite(tet, k);
+      const Vec3 &x = mesh_.points[f[0]], &y = mesh_.points[f[1]], &z = mesh_.points[f[2]];
+      const Vec3 n = (y - x).cross(z - x);
+      const double side = -n.dot(start - x);
+      normals_.push_back(side > 0 ? Vec3(-n) : n);
+      origins_.push_back(x);
+      const Index part = tet_part_[t];
+      if (part == kInvalidIndex) continue;
+      for (int i = 0; i < 4; ++i) {
+        if (i == k) continue;
+        const Index nb = neighbors_[t][i];
+        if (nb != kInvalidIndex && tet_part_[nb] == part) continue;
+        // The face (v, a, b) opposite vertex w = tet[i].
+        Vec3 a = Vec3::Zero(), b = Vec3::Zero();
+        int m = 0;
+        for (int j = 0; j < 4; ++j)
+          if (j != i && j != k) (m++ == 0 ? a : b) = mesh_.points[tet[j]];
+        const Vec3& w = mesh_.points[tet[i]];
+        const double w_side = -((b - a).cross(w - a)).dot(start - a);
+        const Vec3 n_g = (b - a).cross(guards_[part] - a);
+        // Wanted: sign(-n_g . (q - a)) == sign(w_side).
+        normals_.push_back(w_side > 0 ? Vec3(-n_g) : n_g);
+        origins_.push_back(a);
+      }
+    }
+    if (!std::isfinite(shortest) || shortest <= 0) return false;
+    Vec3 q = start;
+    const double margin = 1e-3 * shortest;
+    for (int iteration = 0; iteration < 100; ++iteration) {
+      double worst = 0;
+      std::size_t worst_index = normals_.size();
+      for (std::size_t c = 0; c < normals_.size(); ++c) {
+        const double length = normals_[c].norm();
+        if (length == 0) continue;
+        const double slack = normals_[c].dot(q - origins_[c]) / length - margin;
+        if (slack < worst) worst = slack, worst_index = c;
+      }
+      if (worst_index == normals_.size()) break;
+      q -= worst * normals_[worst_index] / normals_[worst_index].norm();
+      if ((q - start).norm() > 2 * shortest) return false;  // too far: leave v alone
+    }
+    mesh_.points[v] = q;
+    geometry_.points[v] = to_point(q);
+    bool keep = true;
+    std::size_t k = 0;
+    for (const Index t : vertex_tets_.row(v))
+      if (tet_sign(t) != signs_before_[k++]) keep = false;
+    if (keep) {
+      violations_around(v, after_);
+      keep =
+          after_.size() < before_.size() && std::includes(before_.begin(), before_.end(), after_.begin(), after_.end());
+    }
+    if (!keep) {
+      mesh_.points[v] = start;
+      geometry_.points[v] = to_point(start);
+      return false;
+    }
+    log_.emplace_back(v, start);
+    return true;
+  }
+
+  // Repairs the violated faces of the given tets: passes over their vertices until a
+  // pass moves none. Returns the number of moves.
+  std::size_t repair(std::span<const Index> tets, int passes = 4) {
+    std::size_t moves = 0;
+    std::vector<Index> vertices;
+    for (int pass = 0; pass < passes; ++pass) {
+      vertices.clear();
+      for (const Index t : tets) {
+        const Index part = tet_part_[t];
+        if (part == kInvalidIndex) continue;
+        for (int i = 0; i < 4; ++i) {
+          const Index n = neighbors_[t][i];
+          if (n != kInvalidIndex && tet_part_[n] == part) continue;
+          if (geometry_.inner_side(t, i, guard_points_[part])) continue;
+          for (const Index v : face_opposite(mesh_.tets[t], i))
+            if (!fixed_[v]) vertices.push_back(v);
+        }
+      }
+      std::sort(vertices.begin(), vertices.end());
+      vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+      std::size_t moved = 0;
+      for (const Index v : vertices) moved += relocate(v);
+      moves += moved;
+      if (moved == 0) break;
+    }
+    return moves;
+  }
+
+  // Violated boundary faces of the given tets' parts, among those tets' faces.
+  std::size_t violations(std::span<const Index> tets) const {
+    std::size_t count = 0;
+    for (const Index t : tets)
+      for (int i = 0; i < 4; ++i) {
+        const Index part = tet_part_[t];
+        const Index n = neighbors_[t][i];
+        if (part == kInvalidIndex || (n != kInvalidIndex && tet_part_[n] == part)) continue;
+        if (!geometry_.inner_side(t, i, guard_points_[part])) ++count;
+      }
+    return count;
+  }
+
+  std::size_t log_size() const { return log_.size(); }
+  // Moves back every vertex moved since the log had `size` entries.
+  void undo(std::size_t size) {
+    while (log_.size() > size) {
+      const auto& [v, position] = log_.back();
+      mesh_.points[v] = position;
+      geometry_.points[v] = to_point(position);
+      log_.pop_back();
+    }
+  }
+  std::size_t moved_vertices() const {
+    std::vector<Index> vertices;
+    for (const auto& entry : log_) vertices.push_back(entry.first);
+    std::sort(vertices.begin(), vertices.end());
+    return static_cast<std::size_t>(std::unique(vertices.begin(), vertices.end()) - vertices.begin());
+  }
+
+ private:
+  CGAL::Orientation tet_sign(Index t) const {
+    const auto& tet = mesh_.tets[t];
+    const auto& p = geometry_.points;
+    return CGAL::orientation(p[tet[0]], p[tet[1]], p[tet[2]], p[tet[3]]);
+  }
+
+  TetMesh& mesh_;
+  Geometry& geometry_;
+  const std::vector<std::array<Index, 4>>& neighbors_;
+  const std::vector<Index>& tet_part_;
+  CompressedRows vertex_tets_;
+  std::vector<std::uint8_t> fixed_;
+  std::vector<Vec3> guards_;
+  std::vector<Point> guard_points_;
+  std::vector<std::uint64_t> before_, after_;
+  std::vector<CGAL::Orientation> signs_before_;
+  std::vector<Vec3> normals_, origins_;
+  std::vector<std::pair<Index, Vec3>> log_;
+};
+
 }  // namespace
 
 std::vector<std::array<Index, 4>> tet_neighbors(const TetMesh& solid) {
@@ -532,7 +741,10 @@ std::size_t kernel_violations(const TetMesh& solid, std::span<const Index> tet_p
 StarResult star_decomposition(const TetMesh& solid, std::span<const Vec3> guards, const StarOptions& options) {
   StarResult result;
   auto stage_start = Clock::now();
-  const Geometry geometry(solid);
+  // The relocation of leftover repairs and the smoothing move interior points: they
+  // work on a copy.
+  TetMesh work = solid;
+  Geometry geometry(work);
   if (solid.tets.empty()) throw InputError("star decomposition: the mesh has no tetrahedra");
   const auto neighbors = tet_neighbors(solid);
   check_input(solid, geometry, neighbors);
@@ -591,6 +803,7 @@ StarResult star_decomposition(const TetMesh& solid, std::span<const Vec3> guards
   std::unique_ptr<Progress> progress;
   if (options.progress) progress = std::make_unique<Progress>("star: growing parts", tet_count);
   Grower grower(geometry, neighbors, result.tet_part, progress.get());
+  Relocator relocator(work, geometry, neighbors, result.tet_part);
   // All parts grow at once from one queue, a tet going to the first part that may
   // take it. Growing them one after another (each as far as it can, in guard order)
   // left half as many tets to re-guard on rocker-arm (38k against 76k of 307k) but
@@ -614,6 +827,7 @@ StarResult star_decomposition(const TetMesh& solid, std::span<const Vec3> guards
     const std::vector<Index> component = leftover_components(neighbors, result.tet_part, &members);
     if (members.empty()) break;
     bool seeded = false;
+    relocator.set_guards(result.parts);
     for (std::size_t id = 0; id < members.size(); ++id) {
       const auto& tets = members[id];
       // The parts around the component, most shared faces first.
@@ -638,14 +852,46 @@ StarResult star_decomposition(const TetMesh& solid, std::span<const Vec3> guards
           }
         return true;
       });
-      const bool merge =
-          whole != order.end() || (!options.strict && tets.size() <= options.merge_max_tets && !order.empty());
-      if (merge) {
-        const Index part = whole != order.end() ? *whole : order.front();
-        for (const Index t : tets) result.tet_part[t] = part;
-        (whole != order.end() ? result.absorbed_tets : result.merged_tets) += tets.size();
+      if (whole != order.end()) {
+        for (const Index t : tets) result.tet_part[t] = *whole;
+        result.absorbed_tets += tets.size();
         if (progress) progress->advance(tets.size());
         continue;
+      }
+      // A small component joins a neighbouring part and vertices around it move until
+      // the rule holds again (Relocator). --strict keeps the join only if that
+      // succeeds, trying the two parts sharing most faces; otherwise the component is
+      // merged regardless, into the part sharing most faces.
+      const bool try_repair = tets.size() <= options.repair_max_tets;
+      const bool may_merge = !options.strict && tets.size() <= options.merge_max_tets;
+      if ((try_repair || may_merge) && !order.empty()) {
+        bool joined = false;
+        std::size_t best = 0, fewest = std::numeric_limits<std::size_t>::max();
+        for (std::size_t k = 0; k < std::min<std::size_t>(order.size(), 2) && try_repair; ++k) {
+          for (const Index t : tets) result.tet_part[t] = order[k];
+          const std::size_t mark = relocator.log_size();
+          relocator.repair(tets);
+          const std::size_t left = relocator.violations(tets);
+          if (left == 0) {
+            joined = true;
+            result.repaired_tets += tets.size();
+            break;
+          }
+          if (left < fewest) fewest = left, best = k;
+          relocator.undo(mark);
+          for (const Index t : tets) result.tet_part[t] = kInvalidIndex;
+        }
+        if (!joined && may_merge) {
+          // Merged regardless, where the repair left the fewest violations.
+          for (const Index t : tets) result.tet_part[t] = order[best];
+          relocator.repair(tets);
+          joined = true;
+          result.merged_tets += tets.size();
+        }
+        if (joined) {
+          if (progress) progress->advance(tets.size());
+          continue;
+        }
       }
       const Index seed = deepest_tet(tets, component, static_cast<Index>(id), neighbors, visited);
       const Vec3 guard = interior_point(geometry, seed);
@@ -663,20 +909,17 @@ StarResult star_decomposition(const TetMesh& solid, std::span<const Vec3> guards
   result.stage_seconds.emplace_back("growth", seconds_since(stage_start));
 
   stage_start = Clock::now();
-  TetMesh smoothed;
-  std::unique_ptr<Geometry> smoothed_geometry;
-  result.interface_area_before = result.interface_area_after = interface_area(solid, neighbors, result.tet_part);
+  result.relocated_vertices = relocator.moved_vertices();
+  result.interface_area_before = result.interface_area_after = interface_area(work, neighbors, result.tet_part);
   if (options.smoothing_iterations > 0) {
-    smoothed = solid;
-    smoothed_geometry = std::make_unique<Geometry>(smoothed);
-    result.smoothed_vertices = smooth_inner_borders(smoothed, *smoothed_geometry, neighbors, result.tet_part,
-                                                    result.parts, options.smoothing_iterations);
-    result.interface_area_after = interface_area(smoothed, neighbors, result.tet_part);
+    result.smoothed_vertices =
+        smooth_inner_borders(work, geometry, neighbors, result.tet_part, result.parts, options.smoothing_iterations);
+    result.interface_area_after = interface_area(work, neighbors, result.tet_part);
     result.stage_seconds.emplace_back("smoothing", seconds_since(stage_start));
   }
-  result.points = smoothed_geometry ? smoothed.points : solid.points;
+  result.points = work.points;
   stage_start = Clock::now();
-  measure_parts(smoothed_geometry ? *smoothed_geometry : geometry, neighbors, result);
+  measure_parts(geometry, neighbors, result);
   result.stage_seconds.emplace_back("measure", seconds_since(stage_start));
   return result;
 }

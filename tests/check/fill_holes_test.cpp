@@ -24,8 +24,7 @@ TriMesh cube() {
 
 double volume(const TriMesh& mesh) {
   double v = 0;
-  for (const auto& t : mesh.triangles)
-    v += mesh.points[t[0]].dot(mesh.points[t[1]].cross(mesh.points[t[2]])) / 6.0;
+  for (const auto& t : mesh.triangles) v += mesh.points[t[0]].dot(mesh.points[t[1]].cross(mesh.points[t[2]])) / 6.0;
   return v;
 }
 

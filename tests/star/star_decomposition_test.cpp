@@ -55,7 +55,12 @@ std::vector<Vec3> guards_of(const TetMesh& solid) {
 // constructions and without the kernel argument of star.hpp: for each vertex v of the
 // part, the segment [guard, v] meets the part's boundary faces (faces not shared by two
 // of its tets) at v at most. Also: the guard lies in a tet of the part.
-void expect_star_shaped(const TetMesh& mesh, const StarResult& result) {
+// The check runs on the decomposition's points (result.points: relocation and smoothing
+// move interior points).
+void expect_star_shaped(const TetMesh& input, const StarResult& result) {
+  TetMesh mesh = input;
+  mesh.points = result.points;
+  ASSERT_EQ(mesh.points.size(), input.points.size());
   using K = CGAL::Exact_predicates_exact_constructions_kernel;
   const auto point = [](const Vec3& p) { return K::Point_3(p.x(), p.y(), p.z()); };
   std::map<std::array<Index, 3>, std::vector<Index>> face_tets;
@@ -133,6 +138,26 @@ void expect_valid_partition(const TetMesh& mesh, const StarResult& result) {
     EXPECT_EQ(reached, tets_in[part]) << "part " << part << " is not connected";
   }
   EXPECT_EQ(total, mesh.tets.size());
+}
+
+double total_volume(const TetMesh& mesh);
+
+// Moving interior points (relocation, smoothing) keeps the boundary points, every tet's
+// orientation and the total volume.
+void expect_same_boundary_no_tet_flipped(const TetMesh& input, const StarResult& result) {
+  TetMesh moved = input;
+  moved.points = result.points;
+  EXPECT_EQ(boundary_surface(input).points, boundary_surface(moved).points);
+  for (std::size_t t = 0; t < input.tets.size(); ++t) {
+    const auto volume = [&](const TetMesh& m) {
+      const auto& q = m.tets[t];
+      return (m.points[q[1]] - m.points[q[0]])
+          .cross(m.points[q[2]] - m.points[q[0]])
+          .dot(m.points[q[3]] - m.points[q[0]]);
+    };
+    EXPECT_GT(volume(input) * volume(moved), 0.0) << "tet " << t << " flipped or flattened";
+  }
+  EXPECT_NEAR(total_volume(moved), total_volume(input), 1e-9);
 }
 
 double total_volume(const TetMesh& mesh) {
@@ -244,13 +269,16 @@ TEST(StarDecomposition, StrictTorusPartsAreStarShaped) {
   const StarResult result = star_decomposition(torus, guards, options);
   expect_valid_partition(torus, result);
   expect_star_shaped(torus, result);
+  expect_same_boundary_no_tet_flipped(torus, result);
   // A ring is not star-shaped, so at least 2 parts; the guards' parts are not dropped.
   EXPECT_GE(result.parts.size(), 2u);
   EXPECT_EQ(result.dropped_guards, 0u);
   for (const StarPart& part : result.parts) {
     EXPECT_TRUE(part.star_shaped);
     EXPECT_EQ(part.visible_vertices, part.vertices);
-    EXPECT_EQ(kernel_violations(torus, result.tet_part, static_cast<Index>(&part - result.parts.data()), part.guard),
+    TetMesh moved = torus;
+    moved.points = result.points;
+    EXPECT_EQ(kernel_violations(moved, result.tet_part, static_cast<Index>(&part - result.parts.data()), part.guard),
               0u);
   }
   EXPECT_DOUBLE_EQ(result.visible_fraction, 1.0);
@@ -272,18 +300,7 @@ TEST(StarDecomposition, SmoothingShrinksTheBordersAndKeepsPartsStarShaped) {
   // The smoothed mesh: boundary points unchanged, no tet inverted or flat, parts star-shaped.
   TetMesh smoothed = torus;
   smoothed.points = result.points;
-  const TriMesh before = boundary_surface(torus), after = boundary_surface(smoothed);
-  EXPECT_EQ(before.points, after.points);
-  for (std::size_t t = 0; t < torus.tets.size(); ++t) {
-    const auto volume = [&](const TetMesh& m) {
-      const auto& q = m.tets[t];
-      return (m.points[q[1]] - m.points[q[0]])
-          .cross(m.points[q[2]] - m.points[q[0]])
-          .dot(m.points[q[3]] - m.points[q[0]]);
-    };
-    EXPECT_GT(volume(torus) * volume(smoothed), 0.0) << "tet " << t << " flipped or flattened";
-  }
-  EXPECT_NEAR(total_volume(smoothed), total_volume(torus), 1e-9);
+  expect_same_boundary_no_tet_flipped(torus, result);
   expect_valid_partition(smoothed, result);
   expect_star_shaped(smoothed, result);
   for (const StarPart& part : result.parts) EXPECT_TRUE(part.star_shaped);
