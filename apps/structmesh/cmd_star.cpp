@@ -73,6 +73,11 @@ Action add_star_command(CLI::App& command, const GlobalOptions& global) {
                   "Without --strict: leftover components up to this many tets join a neighbouring part")
       ->capture_default_str();
   command
+      .add_option("--repair-max-tets", settings->options.repair_max_tets,
+                  "Leftover components up to this many tets try to join a neighbouring part with interior points "
+                  "moved until the part is star-shaped again (0: never)")
+      ->capture_default_str();
+  command
       .add_option("--smooth", settings->options.smoothing_iterations,
                   "Laplacian smoothing sweeps of the borders between parts (moves interior points only; keeps "
                   "every star-shaped part star-shaped)")
@@ -150,9 +155,9 @@ Action add_star_command(CLI::App& command, const GlobalOptions& global) {
     char line[320];
     std::snprintf(line, sizeof line,
                   "%zu parts (%zu from the %zu guards, %zu added), %zu star-shaped; %.4f%% of part vertices visible "
-                  "from their guard; %zu tets merged",
+                  "from their guard; %zu tets merged, %zu joined after moving %zu interior points",
                   result.parts.size(), result.parts.size() - added_parts, guards.size(), added_parts, star_parts,
-                  100.0 * result.visible_fraction, result.merged_tets);
+                  100.0 * result.visible_fraction, result.merged_tets, result.repaired_tets, result.relocated_vertices);
     say(global, line);
     for (const std::string& output : settings->outputs) say(global, "wrote " + output);
 
@@ -183,6 +188,9 @@ Action add_star_command(CLI::App& command, const GlobalOptions& global) {
                                {"star_shaped_parts", star_parts},
                                {"added_parts", added_parts},
                                {"merged_tets", result.merged_tets},
+                               {"absorbed_tets", result.absorbed_tets},
+                               {"repaired_tets", result.repaired_tets},
+                               {"relocated_vertices", result.relocated_vertices},
                                {"growth_rounds", result.growth_rounds},
                                {"visible_fraction", result.visible_fraction},
                                {"smoothed_vertices", result.smoothed_vertices},

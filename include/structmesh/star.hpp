@@ -49,7 +49,7 @@ struct StarOptions {
   /// interface neighbours, a move being kept only when no tet around it inverts and
   /// every interface face around it still passes the growth rule for the guards on
   /// both of its sides (so star-shaped parts stay star-shaped). 0: no smoothing.
-  int smoothing_iterations = 0;
+  int smoothing_iterations = 10;
   bool progress = false;
 };
 
