@@ -39,6 +39,12 @@ if [[ -d "$data" ]]; then
   "$sm" check "$data/regions/matagorda_bay.geojson" --json "$out/matagorda-check.json"
   "$sm" convert "$data/regions/matagorda_bay.geojson" -o "$out/matagorda_bay.png"
   "$sm" check "$data/surfaces/rocker-arm.obj" --json "$out/rocker-arm-check.json"
+  echo "== 3D (§2.2-2.3): the rocker arm tetrahedralized, guarded (exact ILP) and split into star-shaped parts"
+  "$sm" tetmesh "$data/surfaces/rocker-arm.obj" -o "$out/rocker-arm.mesh" --json "$out/rocker-arm-tetmesh.json"
+  "$sm" guard "$out/rocker-arm.mesh" -o "$out/rocker-arm-guards.json" -o "$out/rocker-arm-guards.vtu" \
+    -o "$out/rocker-arm-guards.png" --json "$out/rocker-arm-guard-report.json"
+  "$sm" star "$out/rocker-arm.mesh" --guards "$out/rocker-arm-guards.json" -o "$out/rocker-arm-parts.vtu" \
+    -o "$out/rocker-arm-parts.png" --json "$out/rocker-arm-parts.json"
   # A model with defects: check reports them and exits 2, which the demo expects.
   if "$sm" check "$data/surfaces/tosca_centaur.off" --json "$out/centaur-check.json"; then
     echo "unexpected: centaur reported valid" >&2

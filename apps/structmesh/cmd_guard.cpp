@@ -6,6 +6,7 @@
 #include "structmesh/guard.hpp"
 #include "structmesh/io.hpp"
 #include "structmesh/progress.hpp"
+#include "structmesh/render.hpp"
 #include "structmesh/tetmesh.hpp"
 
 #include <filesystem>
@@ -45,8 +46,10 @@ Action add_guard_command(CLI::App& command, const GlobalOptions& global) {
       ->check(CLI::IsMember({"greedy", "ilp", "pilp"}))
       ->capture_default_str();
   command
-      .add_option("-o,--output", settings->outputs,
-                  "guards.json (positions, faces, graph); a surface file (.vtu .ply .obj .off .mesh) coloured by guard")
+      .add_option(
+          "-o,--output", settings->outputs,
+          "guards.json (positions, faces, graph); a surface file (.vtu .ply .obj .off .mesh) coloured by guard; a "
+          "picture (.png) of the faces coloured by guard, guards as dots")
       ->required();
   command
       .add_option("--spacing", settings->options.spacing, "Skeleton resampling spacing (default 1% of the diagonal)")
@@ -110,6 +113,15 @@ Action add_guard_command(CLI::App& command, const GlobalOptions& global) {
     for (const std::string& output : settings->outputs) {
       if (std::filesystem::path(output).extension() == ".json") {
         write_file_atomic(output, guards_json(result, settings->method).dump() + "\n");
+        continue;
+      }
+      if (std::filesystem::path(output).extension() == ".png") {
+        std::vector<std::int32_t> labels(surface.triangles.size());
+        for (std::size_t f = 0; f < labels.size(); ++f)
+          labels[f] = result.face_guard[f] == kInvalidIndex ? -1 : static_cast<std::int32_t>(result.face_guard[f]);
+        std::vector<Vec3> positions;
+        for (const Guard& guard : result.guards) positions.push_back(guard.position);
+        write_file_atomic(output, surface_png(surface, labels, positions));
         continue;
       }
       MeshBundle coloured = to_bundle(surface);

@@ -6,11 +6,13 @@
 #include "structmesh/guard.hpp"
 #include "structmesh/io.hpp"
 #include "structmesh/progress.hpp"
+#include "structmesh/render.hpp"
 #include "structmesh/star.hpp"
 #include "structmesh/tetmesh.hpp"
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 
@@ -64,7 +66,8 @@ Action add_star_command(CLI::App& command, const GlobalOptions& global) {
       ->capture_default_str();
   command
       .add_option("-o,--output", settings->outputs,
-                  "parts.vtu (cell data part), parts.mesh (part id as the tet reference) or parts.msh; repeatable")
+                  "parts.vtu (cell data part), parts.mesh (part id as the tet reference), parts.msh, or parts.png (the "
+                  "boundary coloured by part); repeatable")
       ->required();
   command.add_flag("--strict", settings->options.strict,
                    "Every part star-shaped (exactly): leftover tets are re-guarded instead of merged");
@@ -89,8 +92,9 @@ Action add_star_command(CLI::App& command, const GlobalOptions& global) {
   return [&global, settings]() {
     for (const std::string& output : settings->outputs) {
       const FileFormat format = format_from_path(output);
+      if (std::filesystem::path(output).extension() == ".png") continue;
       if (format != FileFormat::Medit && format != FileFormat::Vtu && format != FileFormat::Msh)
-        throw InputError(output + ": star writes .vtu, .mesh or .msh");
+        throw InputError(output + ": star writes .vtu, .mesh, .msh or .png");
     }
     const MeshBundle bundle = read_mesh(settings->input);
     TetMesh solid;
@@ -145,7 +149,23 @@ Action add_star_command(CLI::App& command, const GlobalOptions& global) {
     DataArray added{"added_guard", {}, {}};
     for (const Index p : result.tet_part) added.i32.push_back(result.parts[p].added ? 1 : 0);
     write.cell_data = {std::move(part), std::move(added)};
-    for (const std::string& output : settings->outputs) write_mesh(output, out, write);
+    for (const std::string& output : settings->outputs) {
+      if (std::filesystem::path(output).extension() != ".png") {
+        write_mesh(output, out, write);
+        continue;
+      }
+      // The solid's boundary faces coloured by the part of their tet, guards as dots.
+      TetMesh moved{result.points, solid.tets};
+      const TriMesh boundary = boundary_surface(moved);
+      const FaceAdjacency<3> faces = build_faces(moved);
+      std::vector<std::int32_t> labels;
+      for (std::size_t f = 0; f < faces.faces.size(); ++f)
+        if (faces.face_cells[f][1] == kInvalidIndex)
+          labels.push_back(static_cast<std::int32_t>(result.tet_part[faces.face_cells[f][0]]));
+      std::vector<Vec3> positions;
+      for (const StarPart& p : result.parts) positions.push_back(p.guard);
+      write_file_atomic(output, surface_png(boundary, labels, positions));
+    }
 
     std::size_t star_parts = 0, added_parts = 0;
     for (const StarPart& p : result.parts) {

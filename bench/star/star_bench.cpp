@@ -43,7 +43,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> models;
   for (int i = 3; i < argc; ++i) models.emplace_back(argv[i]);
   if (models.empty())
-    models = {"torus.obj", "3holes.off", "eight.off", "kitten.off", "rocker-arm.obj", "fertility.off", "bunny_hr.obj"};
+    models = {"torus.obj", "3holes.off", "eight.off", "kitten.off", "rocker-arm.obj", "fertility.off"};
   std::printf(
       "| model | tets | guards (ILP) | parts, relaxed (added) | visible, relaxed | merged tets | parts, --strict "
       "(added) | star-shaped, --strict | tetmesh s | guard s | star s, relaxed | star s, --strict |\n");

@@ -188,6 +188,9 @@ struct GuardOptions {
   /// and inside tests count ray crossings. It must still be closed, manifold and
   /// outward-oriented (fill_holes() of check.hpp closes holes).
   bool allow_self_intersections = false;
+  /// At most this many extra candidates for faces no skeleton point sees (spread
+  /// evenly over them).
+  std::size_t max_added_candidates = 4000;
   /// Candidate guards given by the caller instead of the skeleton's (those outside the
   /// solid are left out; faces none of them sees still get extra candidates). With the
   /// candidate_points of an earlier result, reruns share their candidates: CGAL's

@@ -84,4 +84,19 @@ std::string quad_mesh_png(const QuadMesh& mesh, std::span<const double> cell_val
 /// into a box; InputError on malformed text, non-finite numbers or x0 >= x1, y0 >= y1.
 BoundingBox2 parse_view(const std::string& text);
 
+/// A picture of a labelled triangle surface: orthographic view from `azimuth_deg`
+/// (around +z, from +x) and `elevation_deg` (above the xy plane), flat shading, a
+/// z-buffer, faces coloured by label (label_color(); negative labels grey), and
+/// `markers` (e.g. guards, which lie inside the solid) drawn on top as dots.
+struct SurfacePictureOptions {
+  int width_px = 1200;
+  double azimuth_deg = 35, elevation_deg = 25;
+};
+/// A colour per non-negative label, neighbouring labels clearly different; grey for < 0.
+std::array<std::uint8_t, 3> label_color(std::int32_t label);
+Image surface_image(const TriMesh& surface, std::span<const std::int32_t> face_labels, std::span<const Vec3> markers,
+                    const SurfacePictureOptions& options = {});
+std::string surface_png(const TriMesh& surface, std::span<const std::int32_t> face_labels,
+                        std::span<const Vec3> markers, const SurfacePictureOptions& options = {});
+
 }  // namespace structmesh
