@@ -23,12 +23,24 @@ std::array<std::uint8_t, 3> label_color(std::int32_t label) {
   const double p = value * (1 - saturation), q = value * (1 - saturation * f), t = value * (1 - saturation * (1 - f));
   double r = 0, g = 0, b = 0;
   switch (sector) {
-    case 0: r = value, g = t, b = p; break;
-    case 1: r = q, g = value, b = p; break;
-    case 2: r = p, g = value, b = t; break;
-    case 3: r = p, g = q, b = value; break;
-    case 4: r = t, g = p, b = value; break;
-    default: r = value, g = p, b = q; break;
+    case 0:
+      r = value, g = t, b = p;
+      break;
+    case 1:
+      r = q, g = value, b = p;
+      break;
+    case 2:
+      r = p, g = value, b = t;
+      break;
+    case 3:
+      r = p, g = q, b = value;
+      break;
+    case 4:
+      r = t, g = p, b = value;
+      break;
+    default:
+      r = value, g = p, b = q;
+      break;
   }
   return {static_cast<std::uint8_t>(255 * r), static_cast<std::uint8_t>(255 * g), static_cast<std::uint8_t>(255 * b)};
 }
@@ -41,14 +53,16 @@ Image surface_image(const TriMesh& surface, std::span<const std::int32_t> face_l
   if (options.width_px < 16 || options.width_px > 20000) throw InputError("surface_image: width out of range");
   // Camera: looking along -view from azimuth/elevation; right and up span the screen.
   const double azimuth = options.azimuth_deg * M_PI / 180, elevation = options.elevation_deg * M_PI / 180;
-  const Vec3 view(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
+  const Vec3 view(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
+                  std::sin(elevation));
   const Vec3 world_up = std::abs(view.z()) > 0.99 ? Vec3(0, 1, 0) : Vec3(0, 0, 1);
   const Vec3 right = world_up.cross(view).normalized();
   const Vec3 up = view.cross(right);
   BoundingBox2 box;
   for (const Vec3& p : surface.points) box.extend(Vec2(p.dot(right), p.dot(up)));
   Image image = Image::fit(box, options.width_px, 12);
-  std::vector<float> depth(static_cast<std::size_t>(image.width) * image.height, -std::numeric_limits<float>::infinity());
+  std::vector<float> depth(static_cast<std::size_t>(image.width) * image.height,
+                           -std::numeric_limits<float>::infinity());
   for (std::size_t f = 0; f < surface.triangles.size(); ++f) {
     const auto& t = surface.triangles[f];
     const Vec3 &a = surface.points[t[0]], &b = surface.points[t[1]], &c = surface.points[t[2]];
