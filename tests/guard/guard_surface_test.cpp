@@ -87,11 +87,7 @@ TEST(GuardSurface, UShapeNeedsTwoAndIlpIsNoWorseThanGreedy) {
 TEST(GuardSurface, ProgressiveIlpCoversEveryFaceThroughItsLevels) {
   // A ring of 12 cubes (a torus of genus 1) at 1,152 vertices, with levels of 300, 600
   // and 900 vertices before the input, so every level runs.
-  std::vector<test::Cell> ring;
-  for (int x = 0; x < 4; ++x)
-    for (int y = 0; y < 4; ++y)
-      if (x == 0 || x == 3 || y == 0 || y == 3) ring.push_back({x, y, 0});
-  const TriMesh torus = voxel_surface(ring, 4);
+  const TriMesh torus = voxel_surface(test::ring_cells(), 4);
   GuardOptions options;
   options.method = GuardMethod::Pilp;
   options.pilp_coarsest_vertices = 300;

@@ -57,6 +57,15 @@ inline TriMesh voxel_surface(const std::vector<Cell>& cells, int subdivisions = 
   return mesh;
 }
 
+/// The 12 cells of a 4 x 4 square ring one cell thick: a solid torus (genus 1).
+inline std::vector<Cell> ring_cells() {
+  std::vector<Cell> ring;
+  for (int x = 0; x < 4; ++x)
+    for (int y = 0; y < 4; ++y)
+      if (x == 0 || x == 3 || y == 0 || y == 3) ring.push_back({x, y, 0});
+  return ring;
+}
+
 /// Icosphere of radius 1 about the origin after `subdivisions` 4:1 splits, with every
 /// vertex then moved to radius radius(direction).
 template <class Radius>

@@ -258,10 +258,7 @@ TEST(StarDecomposition, LAndUShapesSplitIntoOnePartPerGuard) {
 }
 
 TEST(StarDecomposition, StrictTorusPartsAreStarShaped) {
-  std::vector<Cell> ring;
-  for (int x = 0; x < 4; ++x)
-    for (int y = 0; y < 4; ++y)
-      if (x == 0 || x == 3 || y == 0 || y == 3) ring.push_back({x, y, 0});
+  const std::vector<Cell> ring = test::ring_cells();
   const TetMesh torus = solid_of(ring, 2, 0.35);
   const auto guards = guards_of(torus);
   StarOptions options;
@@ -285,10 +282,7 @@ TEST(StarDecomposition, StrictTorusPartsAreStarShaped) {
 }
 
 TEST(StarDecomposition, SmoothingShrinksTheBordersAndKeepsPartsStarShaped) {
-  std::vector<Cell> ring;
-  for (int x = 0; x < 4; ++x)
-    for (int y = 0; y < 4; ++y)
-      if (x == 0 || x == 3 || y == 0 || y == 3) ring.push_back({x, y, 0});
+  const std::vector<Cell> ring = test::ring_cells();
   const TetMesh torus = solid_of(ring, 2, 0.3);
   const auto guards = guards_of(torus);
   StarOptions options;
@@ -331,10 +325,7 @@ TEST(StarDecomposition, KernelViolationsSeeANonStarPart) {
 }
 
 TEST(StarDecomposition, RelaxedModeMergesSmallLeftoversAndReportsVisibility) {
-  std::vector<Cell> ring;
-  for (int x = 0; x < 4; ++x)
-    for (int y = 0; y < 4; ++y)
-      if (x == 0 || x == 3 || y == 0 || y == 3) ring.push_back({x, y, 0});
+  const std::vector<Cell> ring = test::ring_cells();
   const TetMesh torus = solid_of(ring, 2, 0.35);
   const auto guards = guards_of(torus);
   StarOptions strict, relaxed;
