@@ -3,6 +3,7 @@
 // reduction, and the time of every stage, beside the dissertation's rows.
 //   bench_guard DATA_DIR               Table 2.1 (every surface)
 //   bench_guard DATA_DIR --table-2.2   Table 2.2 (skeleton against tet-vertex candidates)
+//   bench_guard DATA_DIR --only NAME... Table 2.1 for the named surfaces only
 #include "structmesh/check.hpp"
 #include "structmesh/error.hpp"
 #include "structmesh/guard.hpp"
@@ -100,6 +101,13 @@ int main(int argc, char** argv) {
   std::vector<std::filesystem::path> models;
   for (const auto& entry : std::filesystem::directory_iterator(data / "surfaces")) models.push_back(entry.path());
   std::sort(models.begin(), models.end());
+  // --only NAME...: just those models (e.g. to add the slow ones to a table).
+  if (argc > 2 && std::string(argv[2]) == "--only") {
+    const std::vector<std::string> only(argv + 3, argv + argc);
+    std::erase_if(models, [&](const std::filesystem::path& path) {
+      return std::find(only.begin(), only.end(), path.filename().string()) == only.end();
+    });
+  }
   std::printf(
       "| model | vertices | skeleton nodes | candidates | greedy | ILP | optimal | PILP (levels) | ILP rows / columns "
       "(reduced) | skeleton s | visibility s | ILP cover s | PILP cover s | total s (ILP) | dissertation (N_V: ILP / "
