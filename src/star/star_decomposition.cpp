@@ -384,97 +384,6 @@ double interface_area(const TetMesh& mesh, const std::vector<std::array<Index, 4
   return area;
 }
 
-// Laplacian smoothing of the inner borders (§2.3; the rule is in star.hpp). `mesh` is
-// the mesh `geometry` was built on; both are updated. Gauss-Seidel sweeps, serial: a
-// move is judged against the current positions of its neighbours. Returns the number
-// of vertices moved at least once.
-std::size_t smooth_inner_borders(TetMesh& mesh, Geometry& geometry, const std::vector<std::array<Index, 4>>& neighbors,
-                                 const std::vector<Index>& tet_part, const std::vector<StarPart>& parts,
-                                 int iterations) {
-  const std::size_t point_count = mesh.points.size();
-  std::vector<std::uint8_t> fixed(point_count, 0), on_interface(point_count, 0);
-  std::vector<std::array<Index, 2>> edges;
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
-    for (int i = 0; i < 4; ++i) {
-      const Index n = neighbors[t][i];
-      const auto f = face_opposite(mesh.tets[t], i);
-      if (n == kInvalidIndex) {
-        for (const Index v : f) fixed[v] = 1;  // the solid's boundary stays where it is
-        continue;
-      }
-      if (n < t || tet_part[n] == tet_part[t]) continue;
-      for (int k = 0; k < 3; ++k) {
-        on_interface[f[k]] = 1;
-        const Index a = f[k], b = f[(k + 1) % 3];
-        edges.push_back({a, b});
-        edges.push_back({b, a});
-      }
-    }
-  std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-  const CompressedRows vertex_tets =
-      build_vertex_elements(std::span<const std::array<Index, 4>>(mesh.tets), point_count);
-  std::vector<std::uint8_t> moved(point_count, 0);
-  std::vector<Point> guards;
-  for (const StarPart& part : parts) guards.push_back(to_point(part.guard));
-
-  // Signs and rule outcomes around v, for the current position of v.
-  struct Around {
-    std::vector<CGAL::Orientation> signs;
-    std::size_t rule_failures = 0;
-  };
-  const auto around = [&](Index v) {
-    Around a;
-    for (const Index t : vertex_tets.row(v)) {
-      const auto& tet = mesh.tets[t];
-      const auto& p = geometry.points;
-      a.signs.push_back(CGAL::orientation(p[tet[0]], p[tet[1]], p[tet[2]], p[tet[3]]));
-      for (int i = 0; i < 4; ++i) {
-        if (tet[i] == v) continue;  // the face opposite v does not move
-        const Index n = neighbors[t][i];
-        if (n != kInvalidIndex && tet_part[n] == tet_part[t]) continue;
-        if (!geometry.inner_side(t, i, guards[tet_part[t]])) ++a.rule_failures;
-      }
-    }
-    return a;
-  };
-
-  auto edge_begin = edges.begin();
-  std::vector<std::pair<Index, Vec3>> targets;
-  for (int sweep = 0; sweep < iterations; ++sweep) {
-    std::size_t moves = 0;
-    edge_begin = edges.begin();
-    while (edge_begin != edges.end()) {
-      const Index v = (*edge_begin)[0];
-      auto edge_end = edge_begin;
-      Vec3 mean = Vec3::Zero();
-      while (edge_end != edges.end() && (*edge_end)[0] == v) mean += mesh.points[(*edge_end++)[1]];
-      const auto degree = static_cast<double>(edge_end - edge_begin);
-      edge_begin = edge_end;
-      if (fixed[v] || !on_interface[v]) continue;
-      mean /= degree;
-      const Vec3 original = mesh.points[v];
-      const Around before = around(v);
-      // Halfway to the mean, then shorter steps until the move is allowed.
-      for (double step = 0.5; step > 0.05; step *= 0.5) {
-        const Vec3 candidate = original + step * (mean - original);
-        mesh.points[v] = candidate;
-        geometry.points[v] = to_point(candidate);
-        const Around after = around(v);
-        if (after.signs == before.signs && after.rule_failures <= before.rule_failures) {
-          ++moves;
-          moved[v] = 1;
-          break;
-        }
-        mesh.points[v] = original;
-        geometry.points[v] = to_point(original);
-      }
-    }
-    if (moves == 0) break;
-  }
-  return static_cast<std::size_t>(std::count(moved.begin(), moved.end(), 1));
-}
-
 // Moves interior vertices to repair violations of the growth rule (beyond the
 // dissertation, which relaxes the rule and then smooths). Around a vertex at position
 // q every constraint is affine in q: an incident tet keeps its orientation
@@ -525,14 +434,25 @@ class Relocator {
     }
   }
 
+  bool fixed(Index v) const { return fixed_[v] != 0; }
+  // Orientation of each tet around v, in vertex_tets order.
+  void signs_around(Index v, std::vector<CGAL::Orientation>& out) const {
+    out.clear();
+    for (const Index t : vertex_tets_.row(v)) out.push_back(tet_sign(t));
+  }
+  // Puts v at q (mesh and exact-predicate points), without logging.
+  void place(Index v, const Vec3& q) {
+    mesh_.points[v] = q;
+    geometry_.points[v] = to_point(q);
+  }
+
   // Tries to move v; true when it moved. Moves are logged for undo().
   bool relocate(Index v) {
     if (fixed_[v]) return false;
     violations_around(v, before_);
     if (before_.empty()) return false;
     const Vec3 start = mesh_.points[v];
-    signs_before_.clear();
-    for (const Index t : vertex_tets_.row(v)) signs_before_.push_back(tet_sign(t));
+    signs_around(v, signs_before_);
     // The half-spaces u . (q - o) > 0 around v.
     normals_.clear();
     origins_.clear();
@@ -585,20 +505,16 @@ class Relocator {
       q -= worst * normals_[worst_index] / normals_[worst_index].norm();
       if ((q - start).norm() > 2 * shortest) return false;  // too far: leave v alone
     }
-    mesh_.points[v] = q;
-    geometry_.points[v] = to_point(q);
-    bool keep = true;
-    std::size_t k = 0;
-    for (const Index t : vertex_tets_.row(v))
-      if (tet_sign(t) != signs_before_[k++]) keep = false;
+    place(v, q);
+    signs_around(v, signs_after_);
+    bool keep = signs_after_ == signs_before_;
     if (keep) {
       violations_around(v, after_);
       keep =
           after_.size() < before_.size() && std::includes(before_.begin(), before_.end(), after_.begin(), after_.end());
     }
     if (!keep) {
-      mesh_.points[v] = start;
-      geometry_.points[v] = to_point(start);
+      place(v, start);
       return false;
     }
     log_.emplace_back(v, start);
@@ -650,9 +566,7 @@ class Relocator {
   // Moves back every vertex moved since the log had `size` entries.
   void undo(std::size_t size) {
     while (log_.size() > size) {
-      const auto& [v, position] = log_.back();
-      mesh_.points[v] = position;
-      geometry_.points[v] = to_point(position);
+      place(log_.back().first, log_.back().second);
       log_.pop_back();
     }
   }
@@ -679,10 +593,73 @@ class Relocator {
   std::vector<Vec3> guards_;
   std::vector<Point> guard_points_;
   std::vector<std::uint64_t> before_, after_;
-  std::vector<CGAL::Orientation> signs_before_;
+  std::vector<CGAL::Orientation> signs_before_, signs_after_;
   std::vector<Vec3> normals_, origins_;
   std::vector<std::pair<Index, Vec3>> log_;
 };
+
+// Laplacian smoothing of the inner borders (§2.3; the rule is in star.hpp), on the
+// mesh and geometry of `relocator`, whose per-vertex checks it shares. Gauss-Seidel
+// sweeps, serial: a move is judged against the current positions of its neighbours and
+// kept when no tet around the vertex changes orientation and the rule fails on no more
+// faces around it than before. Returns the number of vertices moved at least once.
+std::size_t smooth_inner_borders(Relocator& relocator, const TetMesh& mesh,
+                                 const std::vector<std::array<Index, 4>>& neighbors, const std::vector<Index>& tet_part,
+                                 int iterations) {
+  const std::size_t point_count = mesh.points.size();
+  std::vector<std::uint8_t> on_interface(point_count, 0);
+  std::vector<std::array<Index, 2>> edges;
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+    for (int i = 0; i < 4; ++i) {
+      const Index n = neighbors[t][i];
+      if (n == kInvalidIndex || n < t || tet_part[n] == tet_part[t]) continue;
+      const auto f = face_opposite(mesh.tets[t], i);
+      for (int k = 0; k < 3; ++k) {
+        on_interface[f[k]] = 1;
+        const Index a = f[k], b = f[(k + 1) % 3];
+        edges.push_back({a, b});
+        edges.push_back({b, a});
+      }
+    }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  std::vector<std::uint8_t> moved(point_count, 0);
+  std::vector<CGAL::Orientation> signs_before, signs_after;
+  std::vector<std::uint64_t> failures_before, failures_after;
+  for (int sweep = 0; sweep < iterations; ++sweep) {
+    std::size_t moves = 0;
+    auto edge_begin = edges.begin();
+    while (edge_begin != edges.end()) {
+      const Index v = (*edge_begin)[0];
+      auto edge_end = edge_begin;
+      Vec3 mean = Vec3::Zero();
+      while (edge_end != edges.end() && (*edge_end)[0] == v) mean += mesh.points[(*edge_end++)[1]];
+      const auto degree = static_cast<double>(edge_end - edge_begin);
+      edge_begin = edge_end;
+      if (relocator.fixed(v) || !on_interface[v]) continue;
+      mean /= degree;
+      const Vec3 original = mesh.points[v];
+      relocator.signs_around(v, signs_before);
+      relocator.violations_around(v, failures_before);
+      // Halfway to the mean, then shorter steps until the move is allowed.
+      for (double step = 0.5; step > 0.05; step *= 0.5) {
+        relocator.place(v, original + step * (mean - original));
+        relocator.signs_around(v, signs_after);
+        if (signs_after == signs_before) {
+          relocator.violations_around(v, failures_after);
+          if (failures_after.size() <= failures_before.size()) {
+            ++moves;
+            moved[v] = 1;
+            break;
+          }
+        }
+        relocator.place(v, original);
+      }
+    }
+    if (moves == 0) break;
+  }
+  return static_cast<std::size_t>(std::count(moved.begin(), moved.end(), 1));
+}
 
 }  // namespace
 
@@ -912,8 +889,9 @@ StarResult star_decomposition(const TetMesh& solid, std::span<const Vec3> guards
   result.relocated_vertices = relocator.moved_vertices();
   result.interface_area_before = result.interface_area_after = interface_area(work, neighbors, result.tet_part);
   if (options.smoothing_iterations > 0) {
+    relocator.set_guards(result.parts);  // the last round may have added parts
     result.smoothed_vertices =
-        smooth_inner_borders(work, geometry, neighbors, result.tet_part, result.parts, options.smoothing_iterations);
+        smooth_inner_borders(relocator, work, neighbors, result.tet_part, options.smoothing_iterations);
     result.interface_area_after = interface_area(work, neighbors, result.tet_part);
     result.stage_seconds.emplace_back("smoothing", seconds_since(stage_start));
   }
