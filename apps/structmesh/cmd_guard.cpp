@@ -71,6 +71,11 @@ Action add_guard_command(CLI::App& command, const GlobalOptions& global) {
                   "pilp: guards seeing less than this share of a level's area are re-examined")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
+  command
+      .add_option("--pilp-exchange-group", settings->options.pilp_exchange_group,
+                  "pilp: at the end, groups of this many guards are replaced by fewer where a small exact ILP "
+                  "finds it (0 or 1: off)")
+      ->capture_default_str();
   command.add_flag("--repair", settings->repair,
                    "Close holes (the faces of guards.json then index the closed surface: the input's triangles "
                    "first), turn an inward surface outward, and guard across self-intersections");

@@ -160,6 +160,16 @@ struct IlpSetCoverResult {
 /// for greedy_set_cover(); Error if the result were not a cover.
 IlpSetCoverResult ilp_set_cover(const CompressedRows& sets, std::size_t element_count, double time_limit_seconds = 60);
 
+/// Local search on a cover (the progressive ILP's last step): each set with the
+/// group_size - 1 sets of `cover` sharing most elements with it is replaced by fewer sets
+/// when an exact ILP (ilp_set_cover(), `time_limit_seconds` each) over the elements only
+/// that group covers finds fewer; repeated until no group improves. A group as large as
+/// the cover makes it the exact optimum. `cover` stays a cover; returns how many sets it
+/// lost. InputError when `cover` is not a cover of every element some set covers, or
+/// names a set that does not exist.
+std::size_t improve_set_cover(const CompressedRows& sets, std::size_t element_count, std::vector<Index>& cover,
+                              std::size_t group_size, double time_limit_seconds = 60);
+
 // ---------------------------------------------------------------------------
 // The whole guarding stage (§2.2): candidates from the curve skeleton, visibility,
 // set cover.
@@ -182,6 +192,10 @@ struct GuardOptions {
   std::size_t pilp_coarsest_vertices = 5000;
   std::size_t pilp_level_step = 10000;
   double pilp_significance = 0.1;
+  /// Progressive ILP, at the end: groups of this many guards (one and those sharing most
+  /// faces with it) are replaced by fewer when a small exact ILP over the faces only
+  /// they see finds a smaller cover (a local search beyond the dissertation; 0 or 1: off).
+  std::size_t pilp_exchange_group = 4;
   bool progress = false;
   /// Guard a surface that intersects itself (scanned models such as the TOSCA ones)
   /// instead of refusing it: visibility is then taken against the surface as it is,
@@ -234,7 +248,7 @@ struct GuardResult {
   std::size_t rows_before = 0, rows_after = 0, columns_before = 0, columns_after = 0;
   std::vector<PilpLevel> levels;   ///< progressive ILP only, coarsest first
   std::size_t pilp_pruned = 0;     ///< progressive ILP: guards found redundant at the end
-  std::size_t pilp_exchanges = 0;  ///< progressive ILP: two guards replaced by one at the end
+  std::size_t pilp_exchanges = 0;  ///< progressive ILP: guards saved by the local exchanges at the end
   std::vector<std::pair<std::string, double>> stage_seconds;
 };
 

@@ -168,50 +168,8 @@ std::vector<Index> progressive_cover(const TriMesh& surface, const std::vector<V
       final_guards.push_back(g);
     }
   }
-  // Then two-for-one exchanges (beyond the dissertation): two guards whose faces no
-  // other guard sees are replaced by one candidate that sees all of those faces, until
-  // no pair can be. Candidates for a pair are those seeing its first such face (the
-  // face -> candidates transpose), tested by binary search in their sorted rows.
-  std::vector<Index> face_offsets(surface.triangles.size() + 1, 0), face_candidates(finest_rows.items.size());
-  for (const Index f : finest_rows.items) ++face_offsets[f + 1];
-  for (std::size_t f = 0; f < surface.triangles.size(); ++f) face_offsets[f + 1] += face_offsets[f];
-  {
-    std::vector<Index> next(face_offsets.begin(), face_offsets.end() - 1);
-    for (std::size_t c = 0; c < finest_rows.row_count(); ++c)
-      for (const Index f : finest_rows.row(c)) face_candidates[next[f]++] = static_cast<Index>(c);
-  }
-  std::vector<Index> exclusive;
-  for (bool improved = true; improved;) {
-    improved = false;
-    for (std::size_t i = 0; i < final_guards.size() && !improved; ++i)
-      for (std::size_t j = i + 1; j < final_guards.size() && !improved; ++j) {
-        const auto a = finest_rows.row(final_guards[i]), b = finest_rows.row(final_guards[j]);
-        exclusive.clear();
-        std::set_union(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(exclusive));
-        std::erase_if(exclusive, [&](Index f) {
-          const std::uint32_t own =
-              std::binary_search(a.begin(), a.end(), f) + std::binary_search(b.begin(), b.end(), f);
-          return coverage[f] > own;
-        });
-        if (exclusive.empty()) continue;
-        const Index f0 = exclusive.front();
-        for (Index k = face_offsets[f0]; k < face_offsets[f0 + 1]; ++k) {
-          const Index c = face_candidates[k];
-          const auto row = finest_rows.row(c);
-          if (!std::all_of(exclusive.begin(), exclusive.end(),
-                           [&](Index f) { return std::binary_search(row.begin(), row.end(), f); }))
-            continue;
-          for (const Index f : a) --coverage[f];
-          for (const Index f : b) --coverage[f];
-          for (const Index f : row) ++coverage[f];
-          final_guards.erase(final_guards.begin() + static_cast<std::ptrdiff_t>(j));
-          final_guards[i] = c;
-          ++result.pilp_exchanges;
-          improved = true;
-          break;
-        }
-      }
-  }
+  result.pilp_exchanges = improve_set_cover(finest_rows, surface.triangles.size(), final_guards,
+                                            options.pilp_exchange_group, options.time_limit);
   std::sort(final_guards.begin(), final_guards.end());
   final_guards.erase(std::unique(final_guards.begin(), final_guards.end()), final_guards.end());
   return final_guards;

@@ -59,6 +59,45 @@ std::size_t brute_force_minimum(const CompressedRows& sets, std::size_t element_
   return best;
 }
 
+TEST(SetCover, LocalImprovementKeepsACoverAndReachesTheOptimumWithAGroupAsLargeAsTheCover) {
+  std::size_t improved = 0;
+  for (unsigned seed = 1; seed <= 120; ++seed) {
+    std::mt19937 rng(seed);
+    const std::size_t columns = std::uniform_int_distribution<std::size_t>(6, 14)(rng);
+    const std::size_t rows = std::uniform_int_distribution<std::size_t>(10, 40)(rng);
+    const CompressedRows sets = random_instance(rng, columns, rows, 1, 4);
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const std::size_t optimum = brute_force_minimum(sets, rows);
+    // From the worst start there is: every set.
+    std::vector<Index> everything(columns);
+    for (std::size_t c = 0; c < columns; ++c) everything[c] = static_cast<Index>(c);
+    std::vector<Index> pairs = everything;
+    const std::size_t saved = improve_set_cover(sets, rows, pairs, 2, 30);
+    EXPECT_EQ(saved + pairs.size(), columns);
+    EXPECT_TRUE(covers_all(sets, rows, pairs));
+    EXPECT_GE(pairs.size(), optimum);
+    // A group as large as the cover is one exact ILP: the optimum.
+    std::vector<Index> greedy = greedy_set_cover(sets, rows);
+    const std::size_t greedy_size = greedy.size();
+    improve_set_cover(sets, rows, greedy, greedy_size, 30);
+    EXPECT_TRUE(covers_all(sets, rows, greedy));
+    EXPECT_EQ(greedy.size(), optimum);
+    improved += greedy.size() < greedy_size;
+  }
+  EXPECT_GT(improved, 0U);  // the instances include ones where greedy is not optimal
+}
+
+TEST(SetCover, LocalImprovementRefusesANonCover) {
+  const CompressedRows sets = make_sets({{0, 1}, {1, 2}, {2, 3}});
+  std::vector<Index> partial{0};
+  EXPECT_THROW(improve_set_cover(sets, 4, partial, 3), InputError);
+  std::vector<Index> missing_set{0, 7};
+  EXPECT_THROW(improve_set_cover(sets, 4, missing_set, 3), InputError);
+  std::vector<Index> cover{0, 1, 2};
+  EXPECT_EQ(improve_set_cover(sets, 4, cover, 3), 1U);  // {0, 2} suffices
+  EXPECT_EQ(cover.size(), 2U);
+}
+
 TEST(SetCover, IlpMatchesBruteForceAndBeatsGreedyOnRandomInstances) {
   std::size_t greedy_worse = 0, reduced_to_nothing = 0;
   for (unsigned seed = 1; seed <= 200; ++seed) {
