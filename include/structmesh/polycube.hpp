@@ -1,0 +1,221 @@
+// Polycube domain construction (chapter 4 of the dissertation): principal-axis
+// alignment and the rotation-driven pre-deformation of §4.3 into a pseudo-polycube Q,
+// voxelization of Q at the Morse resolution of §4.4.1, and the homotopic
+// morphological optimisation of §4.4.2 (energy (4.1)) on the voxel set, whose
+// boundary is the polycube P.
+#pragma once
+
+#include "structmesh/mesh.hpp"
+
+#include <Eigen/Core>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace structmesh {
+
+// ---------------------------------------------------------------------------
+// Pre-alignment and pre-deformation (§4.3)
+
+/// A rotation about a centre: p -> rotation * (p - centre) + centre.
+struct RigidAlignment {
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  Vec3 centre = Vec3::Zero();
+  Vec3 apply(const Vec3& p) const { return rotation * (p - centre) + centre; }
+  Vec3 unapply(const Vec3& p) const { return rotation.transpose() * (p - centre) + centre; }
+};
+
+/// The rotation taking the principal axes of the solid bounded by `surface` (the
+/// eigenvectors of its volume inertia, from signed tetrahedra on the origin) to X, Y and
+/// Z, the axis of largest extent first, about the solid's centroid; a proper rotation
+/// (det +1). InputError if the surface has no triangles or bounds no volume.
+RigidAlignment principal_axes_alignment(const TriMesh& surface);
+
+/// Axis labels of faces: 0 +X, 1 -X, 2 +Y, 3 -Y, 4 +Z, 5 -Z.
+inline constexpr int kAxisLabels = 6;
+/// The label of the axis nearest to a (non-zero) normal; ties to the lower label.
+int nearest_axis_label(const Vec3& normal);
+/// The unit vector of a label.
+Vec3 axis_of_label(int label);
+
+struct PseudoPolycubeOptions {
+  /// Rotation-driven deformation rounds (each: normals, nearest-axis rotations, one
+  /// sparse solve); stops earlier when the mean normal deviation changes by less than
+  /// `tolerance_degrees`.
+  int max_iterations = 30;
+  double tolerance_degrees = 0.05;
+  bool progress = false;
+};
+
+struct PseudoPolycube {
+  TriMesh surface;            ///< Q: the input's connectivity, deformed points
+  std::vector<int> labels;    ///< per triangle: nearest axis of its normal on Q
+  std::size_t charts = 0;     ///< edge-connected groups of triangles with one label
+  /// Charts that break the polycube rule of §4.3: adjacent to a chart of the opposite
+  /// label, or to fewer than four charts (the "wedges" voxelization corrects).
+  std::size_t wedges = 0;
+  int iterations = 0;
+  /// Area-weighted mean angle (degrees) between the triangles' normals and their
+  /// labels' axes, on the input and on Q.
+  double input_deviation_degrees = 0, deviation_degrees = 0;
+};
+
+/// The rotation-driven deformation of §4.3 (after Gregson et al. 2011): each vertex
+/// normal is rotated to its nearest axis by the minimal rotation R_i, and the Poisson
+/// system x_i - mean(x_j) = mean((R_i + R_j)/2 (x~_j - x~_i)) over the one-ring is
+/// solved in the least-squares sense (sparse Cholesky), iterated. The result has the
+/// input's volume and centroid. InputError if the surface is not a closed, oriented
+/// manifold.
+PseudoPolycube pseudo_polycube(const TriMesh& surface, const PseudoPolycubeOptions& options = {});
+
+// ---------------------------------------------------------------------------
+// Voxel sets (§4.4): the union of closed unit cubes, voxel (x, y, z) spanning
+// origin + size * [x, x+1] x [y, y+1] x [z, z+1].
+
+struct VoxelGrid {
+  std::array<int, 3> dims{0, 0, 0};
+  Vec3 origin = Vec3::Zero();
+  double size = 1;
+  std::vector<std::uint8_t> occupied;  ///< x fastest, then y, then z; 1 = in the solid
+
+  VoxelGrid() = default;
+  VoxelGrid(std::array<int, 3> dims_, Vec3 origin_, double size_)
+      : dims(dims_),
+        origin(origin_),
+        size(size_),
+        occupied(static_cast<std::size_t>(dims_[0]) * dims_[1] * dims_[2], 0) {}
+  bool inside(int x, int y, int z) const {
+    return x >= 0 && y >= 0 && z >= 0 && x < dims[0] && y < dims[1] && z < dims[2];
+  }
+  std::size_t index(int x, int y, int z) const {
+    return static_cast<std::size_t>(x) + static_cast<std::size_t>(dims[0]) * (y + static_cast<std::size_t>(dims[1]) * z);
+  }
+  /// Whether voxel (x, y, z) is occupied; false outside the grid.
+  bool at(int x, int y, int z) const { return inside(x, y, z) && occupied[index(x, y, z)] != 0; }
+  void set(int x, int y, int z, bool value) { occupied[index(x, y, z)] = value ? 1 : 0; }
+  std::size_t count() const;
+  /// Grid vertices: (dims + 1) per axis, x fastest.
+  std::size_t vertex_index(int x, int y, int z) const {
+    return static_cast<std::size_t>(x) +
+           static_cast<std::size_t>(dims[0] + 1) * (y + static_cast<std::size_t>(dims[1] + 1) * z);
+  }
+  std::size_t vertex_count() const {
+    return static_cast<std::size_t>(dims[0] + 1) * (dims[1] + 1) * (dims[2] + 1);
+  }
+  Vec3 vertex_position(int x, int y, int z) const { return origin + size * Vec3(x, y, z); }
+};
+
+/// Topology of the union of the occupied closed cubes (§4.5.1): the cells of the
+/// cubical complex (k0 vertices, k1 edges, k2 squares, k3 cubes), the Euler
+/// characteristic chi = k0 - k1 + k2 - k3 (4.2), and the Betti numbers: b0 the
+/// 26-connected components of the voxels, b2 the 6-connected components of the empty
+/// space that do not reach outside the grid (voids), b1 = b0 + b2 - chi (handles).
+struct VoxelTopology {
+  std::int64_t vertices = 0, edges = 0, squares = 0, cubes = 0;
+  std::int64_t euler = 0;
+  std::int64_t components = 0, handles = 0, voids = 0;
+  bool operator==(const VoxelTopology&) const = default;
+};
+VoxelTopology voxel_topology(const VoxelGrid& grid);
+
+/// Whether flipping voxel (x, y, z) (removing it when occupied, adding it when empty)
+/// keeps the topology of the voxel union and of its complement: the (26, 6) simple
+/// point test (Bertrand's topological numbers T26 = 1 and T6 = 1 in the 3x3x3
+/// neighbourhood), equivalent to the simple removals of §4.4.2 on the cubical complex.
+bool is_simple_voxel(const VoxelGrid& grid, int x, int y, int z);
+
+/// Whether the voxel set is well-composed: no 2x2 square of voxels around a grid edge
+/// holds exactly two diagonally opposite voxels (of either state), and no 2x2x2 block
+/// holds exactly two antipodal voxels of one state. Exactly then the boundary of the
+/// union is a 2-manifold, i.e. a valid polycube surface.
+bool is_well_composed(const VoxelGrid& grid);
+/// The same test restricted to the blocks that contain voxel (x, y, z).
+bool is_well_composed_near(const VoxelGrid& grid, int x, int y, int z);
+
+/// The boundary of the voxel union as an outward quad mesh: one quad per face between
+/// an occupied and an empty voxel, grid vertices shared. `corner` (if given) gets one
+/// flag per returned point: 1 where the incident boundary quads have normals along all
+/// three axes (a polycube corner, the E_c of (4.1)).
+QuadMesh voxel_boundary(const VoxelGrid& grid, std::vector<std::uint8_t>* corner = nullptr);
+
+/// Corners of the polycube: boundary grid vertices whose incident boundary faces have
+/// normals along all three axes.
+std::size_t polycube_corners(const VoxelGrid& grid);
+
+// ---------------------------------------------------------------------------
+// Voxelization (§4.4.1)
+
+/// The voxel size eta of §4.4.1: for each axis the critical heights of the height
+/// function on Q (vertices that are local extrema or saddles of x, y or z over their
+/// one-ring), grouped when closer than `epsilon`; eta is a third of the smallest gap
+/// between consecutive groups on any axis, and at most `max_size`.
+struct MorseResolution {
+  double size = 0;
+  std::array<std::vector<double>, 3> levels;  ///< per axis: the grouped critical heights, ascending
+};
+MorseResolution morse_voxel_size(const TriMesh& surface, double epsilon, double max_size);
+
+/// The voxels of a grid of edge `size` whose centres are inside the closed surface,
+/// with one empty layer around them. InputError for a surface with no triangles or a
+/// size <= 0 or more than `max_voxels` voxels.
+VoxelGrid voxelize(const TriMesh& surface, double size, std::size_t max_voxels = 200'000'000);
+
+/// Unsigned distance from each grid vertex (VoxelGrid::vertex_index) to the surface.
+std::vector<double> vertex_distances(const VoxelGrid& grid, const TriMesh& surface);
+
+// ---------------------------------------------------------------------------
+// Homotopic morphology (§4.4.2) inside a box of voxels [lo, hi) (clamped to the grid).
+// Each voxel flips only if it is simple and the set stays well-composed near it, so
+// topology and the manifold boundary are kept. Returns the number of flipped voxels.
+
+struct VoxelBox {
+  std::array<int, 3> lo{0, 0, 0}, hi{0, 0, 0};
+};
+/// One layer: the occupied voxels of `box` with an empty 26-neighbour at the start are
+/// removed, in scan order (x fastest), each if it is still simple when reached.
+std::size_t homotopic_erode(VoxelGrid& grid, const VoxelBox& box);
+/// One layer: the empty voxels of `box` with an occupied 26-neighbour are added, likewise.
+std::size_t homotopic_dilate(VoxelGrid& grid, const VoxelBox& box);
+/// `layers` erosions, then `layers` dilations (removes ridges thinner than 2 * layers).
+std::size_t homotopic_open(VoxelGrid& grid, const VoxelBox& box, int layers);
+/// `layers` dilations, then `layers` erosions (fills valleys narrower than 2 * layers).
+std::size_t homotopic_close(VoxelGrid& grid, const VoxelBox& box, int layers);
+
+// ---------------------------------------------------------------------------
+// Polycube optimisation, energy (4.1): E_p = E_c + alpha * E_g.
+
+struct PolycubeEnergy {
+  std::size_t corners = 0;  ///< E_c
+  double deviation = 0;     ///< E_g: sum of the distances at the boundary grid vertices
+  double total = 0;         ///< E_c + alpha * E_g
+};
+/// `vertex_distance`: per grid vertex (VoxelGrid::vertex_index), its distance to the
+/// pseudo-polycube Q in whatever unit E_g is to have.
+PolycubeEnergy polycube_energy(const VoxelGrid& grid, std::span<const double> vertex_distance, double alpha);
+
+struct PolycubeOptimizationOptions {
+  double alpha = 20;     ///< the weight of E_g in (4.1)
+  int max_window = 5;    ///< the moving window's largest half-size (radius); down to 1
+  double threshold = 0;  ///< an operation must lower E_p by more than this
+  bool progress = false;
+};
+
+struct PolycubeOptimizationResult {
+  PolycubeEnergy before, after;
+  std::size_t openings = 0, closings = 0;  ///< accepted operations
+  std::size_t sweeps = 0;                  ///< passes over the boundary voxels, all windows
+};
+
+/// The moving-window optimisation of §4.4.2: for window radius r from max_window down to
+/// 1, every boundary voxel c gets the better of a homotopic opening and a homotopic
+/// closing of r layers in the box c +- 2r, kept if it lowers E_p by more than the
+/// threshold and undone otherwise; sweeps repeat until a sweep changes nothing.
+/// Topology (voxel_topology) and well-composedness never change. Deterministic.
+PolycubeOptimizationResult optimize_polycube(VoxelGrid& grid, std::span<const double> vertex_distance,
+                                             const PolycubeOptimizationOptions& options = {});
+
+}  // namespace structmesh
