@@ -10,6 +10,7 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace structmesh::cli {
 
@@ -33,6 +34,7 @@ Action add_quad2d_command(CLI::App& command, const GlobalOptions& global);
 Action add_guard_command(CLI::App& command, const GlobalOptions& global);
 Action add_tetmesh_command(CLI::App& command, const GlobalOptions& global);
 Action add_star_command(CLI::App& command, const GlobalOptions& global);
+Action add_polycube_command(CLI::App& command, const GlobalOptions& global);
 
 /// A region from a file (.geojson, .poly) or the built-in "key" / "pipe" with about
 /// `segments` boundary segments (0: the default); `polygon_choice` ("", an index or
@@ -44,6 +46,12 @@ nlohmann::json metrics_json(const Partition& partition);
 nlohmann::json coastline_filter_json(const NarrowWaterReport& report);
 /// One line for the user, empty when nothing changed.
 std::string coastline_filter_summary(const NarrowWaterReport& report);
+
+/// Points from a JSON file: the array `key` of its top-level object, each item [x, y, z]
+/// or, with a `field`, an object whose `field` is [x, y, z] (a guards.json's "guards"
+/// with "position"). InputError naming the file and the item when it is unreadable,
+/// malformed or not finite.
+std::vector<Vec3> read_json_points(const std::string& path, const std::string& key, const std::string& field = "");
 
 /// Adds --json, --quiet, --progress and --threads to a subcommand (they are also
 /// accepted before the subcommand name).

@@ -23,14 +23,17 @@ nlohmann::json guards_json(const GuardResult& result, const std::string& method)
         {{"position", {guard.position.x(), guard.position.y(), guard.position.z()}}, {"faces", guard.faces}});
   nlohmann::json graph = nlohmann::json::array();
   for (const auto& [a, b] : result.graph) graph.push_back({a, b});
-  return {{"method", method}, {"guards", guards}, {"graph", graph}};
+  // Every candidate, so that `--candidates guards.json` reruns on the same ones.
+  nlohmann::json candidates = nlohmann::json::array();
+  for (const Vec3& p : result.candidate_points) candidates.push_back({p.x(), p.y(), p.z()});
+  return {{"method", method}, {"guards", guards}, {"graph", graph}, {"candidates", candidates}};
 }
 
 }  // namespace
 
 Action add_guard_command(CLI::App& command, const GlobalOptions& global) {
   struct Settings {
-    std::string input, method = "ilp";
+    std::string input, method = "ilp", candidates_path;
     std::vector<std::string> outputs;
     GuardOptions options;
     bool repair = false;
@@ -76,6 +79,9 @@ Action add_guard_command(CLI::App& command, const GlobalOptions& global) {
                   "pilp: at the end, groups of this many guards are replaced by fewer where a small exact ILP "
                   "finds it (0 or 1: off)")
       ->capture_default_str();
+  command.add_option("--candidates", settings->candidates_path,
+                     "Candidate guards from the \"candidates\" of an earlier guards.json instead of the curve "
+                     "skeleton (the skeleton varies slightly from run to run; this makes a rerun repeatable)");
   command.add_flag("--repair", settings->repair,
                    "Close holes (the faces of guards.json then index the closed surface: the input's triangles "
                    "first), turn an inward surface outward, and guard across self-intersections");
@@ -83,6 +89,10 @@ Action add_guard_command(CLI::App& command, const GlobalOptions& global) {
     const MeshBundle input = read_mesh(settings->input);
     TriMesh surface = input.tets.empty() ? to_tri_mesh(input) : boundary_surface(to_tet_mesh(input));
     GuardOptions options = settings->options;
+    if (!settings->candidates_path.empty()) {
+      options.candidates = read_json_points(settings->candidates_path, "candidates");
+      if (options.candidates.empty()) throw InputError(settings->candidates_path + ": no candidates");
+    }
     nlohmann::json repaired = nullptr;
     if (settings->repair) {
       HoleFilling filled;

@@ -18,35 +18,6 @@
 
 namespace structmesh::cli {
 
-namespace {
-
-std::vector<Vec3> read_guards(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open the guards file");
-  nlohmann::json json;
-  try {
-    in >> json;
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(path + ": not valid JSON (" + e.what() + ")");
-  }
-  if (!json.is_object() || !json.contains("guards") || !json["guards"].is_array())
-    throw InputError(path + ": expected an object with a \"guards\" array (the output of structmesh guard)");
-  std::vector<Vec3> guards;
-  for (std::size_t k = 0; k < json["guards"].size(); ++k) {
-    const auto& guard = json["guards"][k];
-    const auto* position = guard.is_object() && guard.contains("position") ? &guard["position"] : nullptr;
-    if (position == nullptr || !position->is_array() || position->size() != 3 || !(*position)[0].is_number() ||
-        !(*position)[1].is_number() || !(*position)[2].is_number())
-      throw InputError(path + ": guards[" + std::to_string(k) + "] has no \"position\": [x, y, z]");
-    guards.emplace_back((*position)[0].get<double>(), (*position)[1].get<double>(), (*position)[2].get<double>());
-    if (!guards.back().allFinite())
-      throw InputError(path + ": guards[" + std::to_string(k) + "] has a non-finite coordinate");
-  }
-  return guards;
-}
-
-}  // namespace
-
 Action add_star_command(CLI::App& command, const GlobalOptions& global) {
   struct Settings {
     std::string input, guards_path, method = "ilp";
@@ -116,7 +87,7 @@ Action add_star_command(CLI::App& command, const GlobalOptions& global) {
     std::vector<Vec3> guards;
     double guard_seconds = 0;
     if (!settings->guards_path.empty()) {
-      guards = read_guards(settings->guards_path);
+      guards = read_json_points(settings->guards_path, "guards", "position");
     } else {
       GuardOptions guard_options;
       guard_options.method = settings->method == "greedy" ? GuardMethod::Greedy : GuardMethod::Ilp;

@@ -60,6 +60,8 @@ int main(int argc, char** argv) {
   add("guard", "Fewest interior guards that see every face of a closed surface or solid (§2.2)",
       cli::add_guard_command);
   add("star", "Split a solid into star-shaped parts grown from its guards (§2.3)", cli::add_star_command);
+  add("polycube", "Build the polycube domain of a closed surface (ch. 4): deform, voxelize, optimise",
+      cli::add_polycube_command);
 
   try {
     app.parse(argc, argv);

@@ -164,8 +164,12 @@ MorseResolution morse_voxel_size(const TriMesh& surface, double epsilon, double 
 /// size <= 0 or more than `max_voxels` voxels.
 VoxelGrid voxelize(const TriMesh& surface, double size, std::size_t max_voxels = 200'000'000);
 
-/// Unsigned distance from each grid vertex (VoxelGrid::vertex_index) to the surface.
-std::vector<double> vertex_distances(const VoxelGrid& grid, const TriMesh& surface);
+/// Unsigned distance from the grid vertices (VoxelGrid::vertex_index) to the surface,
+/// exact (closest point) for the vertices within `band` voxels (Chebyshev) of a square
+/// on the boundary of the voxel union, where the optimisation can move that boundary;
+/// the others get band * size (at most their distance, give or take the voxel the
+/// boundary is off the surface). InputError for a surface with no triangles.
+std::vector<double> vertex_distances(const VoxelGrid& grid, const TriMesh& surface, int band = 12);
 
 // ---------------------------------------------------------------------------
 // Homotopic morphology (§4.4.2) inside a box of voxels [lo, hi) (clamped to the grid).
@@ -217,5 +221,47 @@ struct PolycubeOptimizationResult {
 /// Topology (voxel_topology) and well-composedness never change. Deterministic.
 PolycubeOptimizationResult optimize_polycube(VoxelGrid& grid, std::span<const double> vertex_distance,
                                              const PolycubeOptimizationOptions& options = {});
+
+// ---------------------------------------------------------------------------
+// The whole construction of chapter 4.
+
+/// Repairs the critical configurations of is_well_composed(): each is resolved by
+/// adding or removing one of its voxels that is simple and leaves the blocks around it
+/// well-composed (additions first, the smallest index first), so the topology is kept.
+/// Returns the number of flipped voxels; Error if a configuration cannot be resolved
+/// this way (the caller then refines the grid).
+std::size_t make_well_composed(VoxelGrid& grid);
+
+struct PolycubeOptions {
+  bool align = true;                 ///< principal-axes pre-alignment (§4.3)
+  PseudoPolycubeOptions deformation;  ///< pre-deformation (§4.3)
+  double epsilon_ratio = 0.01;       ///< Morse grouping epsilon, share of the diagonal (§4.4.1)
+  double voxel_size = 0;             ///< 0: the Morse resolution eta, refined until the topology is kept
+  int max_resolution = 160;          ///< at most this many voxels along the longest axis
+  PolycubeOptimizationOptions optimization;
+  bool progress = false;
+};
+
+struct PolycubeResult {
+  RigidAlignment alignment;     ///< input -> aligned frame (identity without align)
+  PseudoPolycube pseudo;        ///< Q, in the aligned frame
+  MorseResolution morse;        ///< eta and the critical levels on Q
+  VoxelGrid voxels;             ///< the optimised polycube's voxels
+  VoxelTopology expected;       ///< of the input solid: components, genus, no voids
+  VoxelTopology initial, final; ///< of the voxel set after voxelization and after optimisation
+  std::size_t well_composed_flips = 0;  ///< voxels make_well_composed() flipped
+  int refinements = 0;          ///< times the voxel size was halved to keep the topology
+  PolycubeOptimizationResult optimization;
+  QuadMesh surface;             ///< P = the boundary of the voxels (outward quads)
+  std::vector<std::uint8_t> corner;  ///< per point of `surface`: a polycube corner
+  std::vector<std::pair<std::string, double>> stage_seconds;
+};
+
+/// Chapter 4 end to end: alignment, pseudo-polycube Q, voxelization of Q at the Morse
+/// resolution (halved, at most three times, until the voxel set has the input's
+/// components, handles and no voids), well-composed repair, and the optimisation of
+/// (4.1). InputError for a surface that does not bound a solid; Error if no resolution
+/// within max_resolution keeps the topology.
+PolycubeResult build_polycube(const TriMesh& surface, const PolycubeOptions& options = {});
 
 }  // namespace structmesh

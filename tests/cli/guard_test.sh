@@ -42,6 +42,24 @@ assert sorted(f for g in solid["guards"] for f in g["faces"]) == list(range(face
 END
 grep -q 'Name="guard"' "$work/faces.vtu" || fail "faces.vtu has no guard cell data"
 
+# --candidates: a rerun on the candidates of guards.json gives the same guards, by every method.
+for method in ilp pilp; do
+  "$sm" guard "$torus" --method $method -o "$work/first_$method.json" --quiet || fail "guard --method $method exited $?"
+  "$sm" guard "$torus" --method $method --candidates "$work/first_$method.json" -o "$work/again_$method.json" --quiet ||
+    fail "guard --candidates ($method) exited $?"
+  python3 - "$work/first_$method.json" "$work/again_$method.json" <<'END' || fail "--candidates rerun ($method) differs"
+import json, sys
+first, again = (json.load(open(p)) for p in sys.argv[1:3])
+assert len(first["candidates"]) > 0 and first["candidates"] == again["candidates"]
+assert first["guards"] == again["guards"], (len(first["guards"]), len(again["guards"]))
+END
+done
+echo '{"candidates": [[0, 0]]}' >"$work/short.json"
+"$sm" guard "$torus" --candidates "$work/short.json" -o "$work/short_out.json" 2>"$work/short.err"
+status=$?
+[[ $status -eq 2 ]] || fail "malformed candidates: exit $status, expected 2"
+grep -q 'short.json: candidates\[0\]' "$work/short.err" || fail "malformed candidates: not named in: $(cat "$work/short.err")"
+
 # Bad input: an open surface, a missing file.
 { echo "OFF"; echo "4 2 0"; echo "0 0 0"; echo "1 0 0"; echo "0 1 0"; echo "0 0 1"; echo "3 0 2 1"; echo "3 0 1 3"; } \
   >"$work/open.off"

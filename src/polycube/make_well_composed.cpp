@@ -1,0 +1,59 @@
+// make_well_composed(): removes the critical configurations (voxels meeting only
+// along an edge or at a vertex) that a voxelization leaves, so the polycube's surface
+// is a 2-manifold, an orthogonal polyhedron (§4.2). Only simple voxels flip, so the
+// topology the Morse resolution of §4.4.1 preserved is kept.
+#include "structmesh/error.hpp"
+#include "structmesh/polycube.hpp"
+
+#include <string>
+#include <vector>
+
+namespace structmesh {
+
+std::size_t make_well_composed(VoxelGrid& grid) {
+  std::size_t flips = 0;
+  std::vector<std::array<int, 3>> bad;
+  // An accepted flip leaves every block around the flipped voxel well-composed and
+  // changes no other block, so the number of critical blocks falls with each flip.
+  for (;;) {
+    bad.clear();
+    for (int z = 0; z < grid.dims[2]; ++z)
+      for (int y = 0; y < grid.dims[1]; ++y)
+        for (int x = 0; x < grid.dims[0]; ++x)
+          if (grid.at(x, y, z) && !is_well_composed_near(grid, x, y, z)) bad.push_back({x, y, z});
+    if (bad.empty()) return flips;
+    bool progress = false;
+    for (const auto& [x, y, z] : bad) {
+      if (is_well_composed_near(grid, x, y, z)) continue;  // an earlier flip resolved it
+      // The voxels of the eight blocks around (x, y, z): additions first (they
+      // thicken an edge or vertex contact into a face contact), then removals.
+      bool resolved = false;
+      for (const bool add : {true, false})
+        for (int dz = -1; dz <= 1 && !resolved; ++dz)
+          for (int dy = -1; dy <= 1 && !resolved; ++dy)
+            for (int dx = -1; dx <= 1 && !resolved; ++dx) {
+              const int u = x + dx, v = y + dy, w = z + dz;
+              // The outermost layer stays empty: the grid keeps its empty border.
+              if (u <= 0 || v <= 0 || w <= 0 || u >= grid.dims[0] - 1 || v >= grid.dims[1] - 1 ||
+                  w >= grid.dims[2] - 1)
+                continue;
+              if (grid.at(u, v, w) == add || !is_simple_voxel(grid, u, v, w)) continue;
+              grid.set(u, v, w, add);
+              if (is_well_composed_near(grid, u, v, w) && is_well_composed_near(grid, x, y, z)) {
+                resolved = true;
+                ++flips;
+              } else {
+                grid.set(u, v, w, !add);
+              }
+            }
+      progress = progress || resolved;
+    }
+    if (!progress)
+      throw Error("make_well_composed: " + std::to_string(bad.size()) +
+                  " voxels touch others only along an edge or at a corner and no simple flip resolves them (first at " +
+                  std::to_string(bad.front()[0]) + ", " + std::to_string(bad.front()[1]) + ", " +
+                  std::to_string(bad.front()[2]) + ")");
+  }
+}
+
+}  // namespace structmesh

@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# End-to-end checks of structmesh polycube. Usage: polycube_test.sh STRUCTMESH DATA_DIR WORK_DIR
+set -u
+sm=$1
+data=$2
+work=$3
+rm -rf "$work"
+mkdir -p "$work"
+failed=0
+fail() {
+  echo "FAIL: $*"
+  failed=$((failed + 1))
+}
+torus="$data/surfaces/torus.obj"
+if [[ ! -f "$torus" ]]; then
+  echo "no $torus: STRUCTMESH_DATA must point at the shared data"
+  exit 1
+fi
+
+# The torus: a polycube with one handle, written as OBJ quads, VTU with axis labels, a picture.
+"$sm" polycube "$torus" -o "$work/p.obj" -o "$work/p.vtu" -o "$work/p.png" --deformed "$work/q.obj" \
+  --json "$work/report.json" --quiet || fail "polycube torus.obj exited $?"
+"$sm" check "$work/p.obj" --json "$work/check.json" --quiet >/dev/null
+python3 - "$work" <<'END' || fail "polycube outputs"
+import json, sys
+work = sys.argv[1]
+report = json.load(open(f"{work}/report.json"))
+t = report["topology"]
+assert t["input"]["handles"] == 1 and t["polycube"] == t["voxelized"], t
+assert t["polycube"]["components"] == 1 and t["polycube"]["handles"] == 1 and t["polycube"]["voids"] == 0, t
+assert report["energy_after"]["total"] <= report["energy_before"]["total"]
+assert report["energy_after"]["corners"] >= 16  # a torus polycube has at least 16 corners
+assert report["pseudo_polycube"]["deviation_degrees"] < report["pseudo_polycube"]["input_deviation_degrees"]
+check = json.load(open(f"{work}/check.json"))
+assert check["closed"] and check["edge_manifold"] and check["oriented"] and check["genus"] == 1, check
+assert check["signed_volume"] > 0
+quads = [l for l in open(f"{work}/p.obj") if l.startswith("f ")]
+assert len(quads) == report["quads"] and all(len(l.split()) == 5 for l in quads)
+END
+grep -q 'Name="axis"' "$work/p.vtu" || fail "p.vtu has no axis cell data"
+[[ -s "$work/p.png" && -s "$work/q.obj" ]] || fail "no picture or no deformed surface"
+
+# Bad input: an open surface exits 2 and names it; an unsupported output exits 2; nothing written.
+{ echo "OFF"; echo "4 2 0"; echo "0 0 0"; echo "1 0 0"; echo "0 1 0"; echo "0 0 1"; echo "3 0 2 1"; echo "3 0 1 3"; } \
+  >"$work/open.off"
+"$sm" polycube "$work/open.off" -o "$work/open.obj" 2>"$work/open.err"
+status=$?
+[[ $status -eq 2 ]] || fail "open surface: exit $status, expected 2"
+grep -q "open.off" "$work/open.err" || fail "open surface: file not named in: $(cat "$work/open.err")"
+[[ ! -e "$work/open.obj" ]] || fail "open surface: an output was written"
+"$sm" polycube "$torus" -o "$work/p.stl" 2>/dev/null
+status=$?
+[[ $status -eq 2 ]] || fail "-o p.stl: exit $status, expected 2"
+
+if ((failed > 0)); then
+  echo "$failed check(s) failed"
+  exit 1
+fi
+echo "polycube CLI checks passed"
