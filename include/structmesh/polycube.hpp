@@ -30,9 +30,12 @@ struct RigidAlignment {
 };
 
 /// The rotation taking the principal axes of the solid bounded by `surface` (the
-/// eigenvectors of its volume inertia, from signed tetrahedra on the origin) to X, Y and
-/// Z, the axis of largest extent first, about the solid's centroid; a proper rotation
-/// (det +1). InputError if the surface has no triangles or bounds no volume.
+/// eigenvectors of its volume covariance, from signed tetrahedra) to X, Y and Z, the
+/// axis of largest extent (variance) first, about the solid's centroid; a proper
+/// rotation (det +1). Signs, and the frame inside an eigenspace of equal variances
+/// (a cube, a sphere), are the ones nearest the identity (largest trace), so a model
+/// already on its principal axes is left alone. InputError if the surface has no
+/// triangles or bounds no volume.
 RigidAlignment principal_axes_alignment(const TriMesh& surface);
 
 /// Axis labels of faces: 0 +X, 1 -X, 2 +Y, 3 -Y, 4 +Z, 5 -Z.
@@ -44,8 +47,8 @@ Vec3 axis_of_label(int label);
 
 struct PseudoPolycubeOptions {
   /// Rotation-driven deformation rounds (each: normals, nearest-axis rotations, one
-  /// sparse solve); stops earlier when the mean normal deviation changes by less than
-  /// `tolerance_degrees`.
+  /// sparse solve, the intersection check); stops earlier when the mean normal deviation
+  /// changes by less than `tolerance_degrees`.
   int max_iterations = 30;
   double tolerance_degrees = 0.05;
   bool progress = false;
@@ -59,17 +62,26 @@ struct PseudoPolycube {
   /// label, or to fewer than four charts (the "wedges" voxelization corrects).
   std::size_t wedges = 0;
   int iterations = 0;
+  /// Vertices the intersection guard froze where the deformation would have made the
+  /// surface cross itself (they keep the position they had then).
+  std::size_t frozen_vertices = 0;
   /// Area-weighted mean angle (degrees) between the triangles' normals and their
   /// labels' axes, on the input and on Q.
   double input_deviation_degrees = 0, deviation_degrees = 0;
 };
 
-/// The rotation-driven deformation of §4.3 (after Gregson et al. 2011): each vertex
-/// normal is rotated to its nearest axis by the minimal rotation R_i, and the Poisson
-/// system x_i - mean(x_j) = mean((R_i + R_j)/2 (x~_j - x~_i)) over the one-ring is
-/// solved in the least-squares sense (sparse Cholesky), iterated. The result has the
-/// input's volume and centroid. InputError if the surface is not a closed, oriented
-/// manifold.
+/// The rotation-driven deformation of §4.3 (after Gregson et al. 2011), iterated: each
+/// triangle normal is rotated towards its nearest axis by the minimal rotation R_t, and
+/// the Poisson system of §4.3, x_i - mean(x_j) = mean(R_ij (x~_i - x~_j)) over the
+/// one-ring, is solved in the least-squares sense over the edges (uniform weights,
+/// sparse Cholesky) with R_ij the mean of the rotations of edge ij's two triangles and
+/// x~ the positions before the iteration. (§4.3 prints x~_j - x~_i, which with R = I
+/// would reflect the surface through a point, and carries R on the vertices; see
+/// src/polycube/pseudo_polycube.cpp for why the triangles carry it here.) Every step is
+/// checked with check_surface()'s exact predicates and vertices where the surface would
+/// cross itself are frozen, so Q is a valid solid boundary like the input. The result
+/// has the input's volume and centroid. InputError if the surface is not a closed,
+/// oriented, manifold, intersection-free solid boundary.
 PseudoPolycube pseudo_polycube(const TriMesh& surface, const PseudoPolycubeOptions& options = {});
 
 // ---------------------------------------------------------------------------
