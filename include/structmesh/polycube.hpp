@@ -138,6 +138,7 @@ VoxelTopology voxel_topology(const VoxelGrid& grid);
 /// keeps the topology of the voxel union and of its complement: the (26, 6) simple
 /// point test (Bertrand's topological numbers T26 = 1 and T6 = 1 in the 3x3x3
 /// neighbourhood), equivalent to the simple removals of §4.4.2 on the cubical complex.
+/// The voxel's own state is ignored. InputError for a voxel outside the grid.
 bool is_simple_voxel(const VoxelGrid& grid, int x, int y, int z);
 
 /// Whether the voxel set is well-composed: no 2x2 square of voxels around a grid edge
@@ -149,13 +150,16 @@ bool is_well_composed(const VoxelGrid& grid);
 bool is_well_composed_near(const VoxelGrid& grid, int x, int y, int z);
 
 /// The boundary of the voxel union as an outward quad mesh: one quad per face between
-/// an occupied and an empty voxel, grid vertices shared. `corner` (if given) gets one
-/// flag per returned point: 1 where the incident boundary quads have normals along all
-/// three axes (a polycube corner, the E_c of (4.1)).
+/// an occupied and an empty voxel (in voxel scan order, then -X, +X, -Y, +Y, -Z, +Z),
+/// on the grid vertices it uses, numbered in vertex_index order. `corner` (if given)
+/// gets one flag per returned point: 1 where the incident boundary quads have normals
+/// along all three axes (a polycube corner, the E_c of (4.1)). A closed 2-manifold when
+/// the set is well-composed.
 QuadMesh voxel_boundary(const VoxelGrid& grid, std::vector<std::uint8_t>* corner = nullptr);
 
 /// Corners of the polycube: boundary grid vertices whose incident boundary faces have
-/// normals along all three axes.
+/// normals along all three axes. On a well-composed set these are exactly the vertices
+/// of the boundary quad mesh whose valence is not 4, the dissertation's corners.
 std::size_t polycube_corners(const VoxelGrid& grid);
 
 // ---------------------------------------------------------------------------
@@ -186,19 +190,26 @@ std::vector<double> vertex_distances(const VoxelGrid& grid, const TriMesh& surfa
 // ---------------------------------------------------------------------------
 // Homotopic morphology (§4.4.2) inside a box of voxels [lo, hi) (clamped to the grid).
 // Each voxel flips only if it is simple and the set stays well-composed near it, so
-// topology and the manifold boundary are kept. Returns the number of flipped voxels.
+// topology and the manifold boundary are kept. Voxels outside the box never change.
+// Each returns the number of voxels whose state changed.
 
 struct VoxelBox {
   std::array<int, 3> lo{0, 0, 0}, hi{0, 0, 0};
 };
 /// One layer: the occupied voxels of `box` with an empty 26-neighbour at the start are
-/// removed, in scan order (x fastest), each if it is still simple when reached.
+/// removed, in scan order (x fastest), each if it is still simple when reached (and the
+/// set well-composed around it after). Candidates refused in a pass are tried again in
+/// another until a pass removes nothing: one that waits for a neighbour later in the
+/// scan is not left behind (a cube loses its whole outer layer).
 std::size_t homotopic_erode(VoxelGrid& grid, const VoxelBox& box);
 /// One layer: the empty voxels of `box` with an occupied 26-neighbour are added, likewise.
 std::size_t homotopic_dilate(VoxelGrid& grid, const VoxelBox& box);
-/// `layers` erosions, then `layers` dilations (removes ridges thinner than 2 * layers).
+/// `layers` erosions, then `layers` dilations that add back only voxels the erosions
+/// removed (removes ridges thinner than 2 * layers). An opening never adds a voxel, so
+/// the occupied voxels around the box do not grow into it.
 std::size_t homotopic_open(VoxelGrid& grid, const VoxelBox& box, int layers);
-/// `layers` dilations, then `layers` erosions (fills valleys narrower than 2 * layers).
+/// `layers` dilations, then `layers` erosions that remove only voxels the dilations
+/// added (fills valleys narrower than 2 * layers). A closing never removes a voxel.
 std::size_t homotopic_close(VoxelGrid& grid, const VoxelBox& box, int layers);
 
 // ---------------------------------------------------------------------------
@@ -210,7 +221,8 @@ struct PolycubeEnergy {
   double total = 0;         ///< E_c + alpha * E_g
 };
 /// `vertex_distance`: per grid vertex (VoxelGrid::vertex_index), its distance to the
-/// pseudo-polycube Q in whatever unit E_g is to have.
+/// pseudo-polycube Q in whatever unit E_g is to have (InputError if the size is not
+/// vertex_count() or a value is not finite).
 PolycubeEnergy polycube_energy(const VoxelGrid& grid, std::span<const double> vertex_distance, double alpha);
 
 struct PolycubeOptimizationOptions {
@@ -227,10 +239,15 @@ struct PolycubeOptimizationResult {
 };
 
 /// The moving-window optimisation of §4.4.2: for window radius r from max_window down to
-/// 1, every boundary voxel c gets the better of a homotopic opening and a homotopic
+/// 1, every boundary voxel c (occupied, with an empty 26-neighbour; those at the start of
+/// a sweep, in scan order) gets the better of a homotopic opening and a homotopic
 /// closing of r layers in the box c +- 2r, kept if it lowers E_p by more than the
-/// threshold and undone otherwise; sweeps repeat until a sweep changes nothing.
-/// Topology (voxel_topology) and well-composedness never change. Deterministic.
+/// threshold (and by more than the rounding of the distance sums) and undone otherwise;
+/// sweeps repeat until a sweep changes nothing. Topology (voxel_topology) never changes,
+/// and a well-composed set stays well-composed. Deterministic: TBB threads evaluate windows ahead,
+/// and the result does not depend on their number. InputError for a `vertex_distance`
+/// of the wrong size or with a value that is not finite, a negative or non-finite alpha
+/// or threshold, or max_window < 1.
 PolycubeOptimizationResult optimize_polycube(VoxelGrid& grid, std::span<const double> vertex_distance,
                                              const PolycubeOptimizationOptions& options = {});
 
