@@ -7,6 +7,8 @@
 #include "structmesh/progress.hpp"
 #include "structmesh/render.hpp"
 
+#include <Eigen/Geometry>
+
 #include <filesystem>
 #include <memory>
 
@@ -51,17 +53,22 @@ Action add_polycube_command(CLI::App& command, const GlobalOptions& global) {
       ->required();
   command.add_option("--deformed", settings->deformed,
                      "Also write the pseudo-polycube Q (the deformed input, §4.3) to this surface file");
-  command.add_option("--alpha", settings->options.optimization.alpha, "Weight of the deviation E_g in E_c + alpha E_g (4.1)")
+  command
+      .add_option("--alpha", settings->options.optimization.alpha,
+                  "Weight of the deviation E_g in E_c + alpha E_g (4.1)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  command.add_option("--max-window", settings->options.optimization.max_window,
-                     "Largest radius of the moving window of the optimisation (down to 1; 0: no optimisation)")
+  command
+      .add_option("--max-window", settings->options.optimization.max_window,
+                  "Largest radius of the moving window of the optimisation (down to 1; 0: no optimisation)")
       ->capture_default_str()
       ->check(CLI::Range(0, 20));
   command.add_option("--voxel-size", settings->options.voxel_size, "Voxel edge (0: the Morse resolution of §4.4.1)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  command.add_option("--max-resolution", settings->options.max_resolution, "At most this many voxels along the longest side")
+  command
+      .add_option("--max-resolution", settings->options.max_resolution,
+                  "At most this many voxels along the longest side")
       ->capture_default_str()
       ->check(CLI::Range(4, 2000));
   command.add_option("--iterations", settings->options.deformation.max_iterations, "Pre-deformation rounds (0: none)")
@@ -125,8 +132,9 @@ Action add_polycube_command(CLI::App& command, const GlobalOptions& global) {
         global,
         {{"input", settings->input},
          {"vertices", bundle.points.size()},
-         {"alignment", {{"rotation", {r(0, 0), r(0, 1), r(0, 2), r(1, 0), r(1, 1), r(1, 2), r(2, 0), r(2, 1), r(2, 2)}},
-                        {"centre", {result.alignment.centre.x(), result.alignment.centre.y(), result.alignment.centre.z()}}}},
+         {"alignment",
+          {{"rotation", {r(0, 0), r(0, 1), r(0, 2), r(1, 0), r(1, 1), r(1, 2), r(2, 0), r(2, 1), r(2, 2)}},
+           {"centre", {result.alignment.centre.x(), result.alignment.centre.y(), result.alignment.centre.z()}}}},
          {"pseudo_polycube",
           {{"iterations", result.pseudo.iterations},
            {"input_deviation_degrees", result.pseudo.input_deviation_degrees},
@@ -134,18 +142,22 @@ Action add_polycube_command(CLI::App& command, const GlobalOptions& global) {
            {"charts", result.pseudo.charts},
            {"wedges", result.pseudo.wedges}}},
          {"morse_voxel_size", result.morse.size},
-         {"critical_levels", {result.morse.levels[0].size(), result.morse.levels[1].size(), result.morse.levels[2].size()}},
+         {"critical_levels",
+          {result.morse.levels[0].size(), result.morse.levels[1].size(), result.morse.levels[2].size()}},
          {"voxel_size", result.voxels.size},
          {"grid", result.voxels.dims},
          {"voxels", result.voxels.count()},
          {"refinements", result.refinements},
          {"well_composed_flips", result.well_composed_flips},
-         {"topology", {{"input", topology_json(result.expected)},
-                       {"voxelized", topology_json(result.initial)},
-                       {"polycube", topology_json(result.final)}}},
+         {"topology",
+          {{"input", topology_json(result.expected)},
+           {"voxelized", topology_json(result.initial)},
+           {"polycube", topology_json(result.final)}}},
          {"alpha", options.optimization.alpha},
-         {"energy_before", {{"corners", opt.before.corners}, {"deviation", opt.before.deviation}, {"total", opt.before.total}}},
-         {"energy_after", {{"corners", opt.after.corners}, {"deviation", opt.after.deviation}, {"total", opt.after.total}}},
+         {"energy_before",
+          {{"corners", opt.before.corners}, {"deviation", opt.before.deviation}, {"total", opt.before.total}}},
+         {"energy_after",
+          {{"corners", opt.after.corners}, {"deviation", opt.after.deviation}, {"total", opt.after.total}}},
          {"openings", opt.openings},
          {"closings", opt.closings},
          {"quads", result.surface.quads.size()},

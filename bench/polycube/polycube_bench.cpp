@@ -22,12 +22,9 @@ namespace {
 // Table 5.1 (N_V, t_pre, t_opt in seconds; 2.27 GHz workstation) for the models we have.
 const std::map<std::string, const char*>& dissertation() {
   static const std::map<std::string, const char*> rows = {
-      {"bunny_hr.obj", "Bunny (34.8k): 294.2 / 521.2"},
-      {"rocker-arm.obj", "Rocker arm (45k): 312.4 / 610.0"},
-      {"hand_closed.obj", "Hand (32k): 260.2 / 525.9"},
-      {"fertility.off", "Fertility (34k): 262.2 / 485.5"},
-      {"kitten.off", "Kitten (35k): 284.2 / 515.9"},
-      {"kitten_40k.off", "Kitten (35k): 284.2 / 515.9"},
+      {"bunny_hr.obj", "Bunny (34.8k): 294.2 / 521.2"}, {"rocker-arm.obj", "Rocker arm (45k): 312.4 / 610.0"},
+      {"hand_closed.obj", "Hand (32k): 260.2 / 525.9"}, {"fertility.off", "Fertility (34k): 262.2 / 485.5"},
+      {"kitten.off", "Kitten (35k): 284.2 / 515.9"},    {"kitten_40k.off", "Kitten (35k): 284.2 / 515.9"},
       {"3holes.off", "3-Torus (9.1k): 124.1 / 234.5"},
   };
   return rows;
@@ -66,15 +63,16 @@ int main(int argc, char** argv) {
     try {
       const TriMesh surface = to_tri_mesh(read_mesh(path));
       if (!check_surface(to_bundle(surface)).valid_solid_boundary) {
-        std::printf("| %s | %zu | not a solid boundary (open, self-intersecting or inward): skipped | | | | | | | | | | "
-                    "| | | %s |\n",
-                    name.c_str(), surface.points.size(), anchor);
+        std::printf(
+            "| %s | %zu | not a solid boundary (open, self-intersecting or inward): skipped | | | | | | | | | | "
+            "| | | %s |\n",
+            name.c_str(), surface.points.size(), anchor);
         continue;
       }
       const PolycubeResult r = build_polycube(surface);
       const double diagonal = r.pseudo.surface.bounding_box().diagonal();
-      const bool kept = r.final.components == r.expected.components && r.final.handles == r.expected.handles &&
-                        r.final.voids == 0;
+      const bool kept =
+          r.final.components == r.expected.components && r.final.handles == r.expected.handles && r.final.voids == 0;
       std::printf(
           "| %s | %zu | %lld | %.1f -> %.1f | %zu | %.4f | %.4f | %dx%dx%d | %zu | %zu -> %zu | %.2f | %s %s | %.2f | "
           "%.2f | %.2f | %s |\n",
@@ -98,12 +96,14 @@ int main(int argc, char** argv) {
   std::printf("\n| alpha | E_c (corners) | E_g (sum of distances / diagonal) | dissertation: E_c / E_g |\n");
   std::printf("|---:|---:|---:|---|\n");
   const TriMesh surface = to_tri_mesh(read_mesh(rocker));
-  const std::map<int, const char*> table_4_1 = {{5, "41 / 6.82"}, {10, "60 / 5.51"}, {20, "80 / 4.10"}, {40, "134 / 3.12"}};
+  const std::map<int, const char*> table_4_1 = {
+      {5, "41 / 6.82"}, {10, "60 / 5.51"}, {20, "80 / 4.10"}, {40, "134 / 3.12"}};
   for (const auto& [alpha, anchor] : table_4_1) {
     PolycubeOptions options;
     options.optimization.alpha = alpha;
     const PolycubeResult r = build_polycube(surface, options);
-    std::printf("| %d | %zu | %.2f | %s |\n", alpha, r.optimization.after.corners, r.optimization.after.deviation, anchor);
+    std::printf("| %d | %zu | %.2f | %s |\n", alpha, r.optimization.after.corners, r.optimization.after.deviation,
+                anchor);
     std::fflush(stdout);
   }
   return 0;

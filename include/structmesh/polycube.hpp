@@ -55,9 +55,9 @@ struct PseudoPolycubeOptions {
 };
 
 struct PseudoPolycube {
-  TriMesh surface;            ///< Q: the input's connectivity, deformed points
-  std::vector<int> labels;    ///< per triangle: nearest axis of its normal on Q
-  std::size_t charts = 0;     ///< edge-connected groups of triangles with one label
+  TriMesh surface;          ///< Q: the input's connectivity, deformed points
+  std::vector<int> labels;  ///< per triangle: nearest axis of its normal on Q
+  std::size_t charts = 0;   ///< edge-connected groups of triangles with one label
   /// Charts that break the polycube rule of §4.3: adjacent to a chart of the opposite
   /// label, or to fewer than four charts (the "wedges" voxelization corrects).
   std::size_t wedges = 0;
@@ -104,7 +104,8 @@ struct VoxelGrid {
     return x >= 0 && y >= 0 && z >= 0 && x < dims[0] && y < dims[1] && z < dims[2];
   }
   std::size_t index(int x, int y, int z) const {
-    return static_cast<std::size_t>(x) + static_cast<std::size_t>(dims[0]) * (y + static_cast<std::size_t>(dims[1]) * z);
+    return static_cast<std::size_t>(x) +
+           static_cast<std::size_t>(dims[0]) * (y + static_cast<std::size_t>(dims[1]) * z);
   }
   /// Whether voxel (x, y, z) is occupied; false outside the grid.
   bool at(int x, int y, int z) const { return inside(x, y, z) && occupied[index(x, y, z)] != 0; }
@@ -115,9 +116,7 @@ struct VoxelGrid {
     return static_cast<std::size_t>(x) +
            static_cast<std::size_t>(dims[0] + 1) * (y + static_cast<std::size_t>(dims[1] + 1) * z);
   }
-  std::size_t vertex_count() const {
-    return static_cast<std::size_t>(dims[0] + 1) * (dims[1] + 1) * (dims[2] + 1);
-  }
+  std::size_t vertex_count() const { return static_cast<std::size_t>(dims[0] + 1) * (dims[1] + 1) * (dims[2] + 1); }
   Vec3 vertex_position(int x, int y, int z) const { return origin + size * Vec3(x, y, z); }
 };
 
@@ -254,34 +253,35 @@ PolycubeOptimizationResult optimize_polycube(VoxelGrid& grid, std::span<const do
 // ---------------------------------------------------------------------------
 // The whole construction of chapter 4.
 
-/// Repairs the critical configurations of is_well_composed(): each is resolved by
-/// adding or removing one of its voxels that is simple and leaves the blocks around it
-/// well-composed (additions first, the smallest index first), so the topology is kept.
+/// Repairs the critical configurations of is_well_composed(): simple voxels near them are
+/// added or removed (additions first, in scan order) when that lowers the number of
+/// critical 2x2x2 blocks around the flipped voxel, so the topology is kept.
 /// Returns the number of flipped voxels; Error if a configuration cannot be resolved
 /// this way (the caller then refines the grid).
 std::size_t make_well_composed(VoxelGrid& grid);
 
 struct PolycubeOptions {
-  bool align = true;                 ///< principal-axes pre-alignment (§4.3)
+  bool align = true;                  ///< principal-axes pre-alignment (§4.3)
   PseudoPolycubeOptions deformation;  ///< pre-deformation (§4.3)
-  double epsilon_ratio = 0.01;       ///< Morse grouping epsilon, share of the diagonal (§4.4.1)
-  double voxel_size = 0;             ///< 0: the Morse resolution eta, refined until the topology is kept
-  int max_resolution = 160;          ///< at most this many voxels along the longest axis
+  double epsilon_ratio = 0.01;        ///< Morse grouping epsilon, share of the diagonal (§4.4.1)
+  double voxel_size = 0;              ///< 0: the Morse resolution eta, refined until the topology is kept
+  int max_resolution =
+      160;  ///< the first size: at most this many voxels along the longest axis (refinements may double it)
   PolycubeOptimizationOptions optimization;
   bool progress = false;
 };
 
 struct PolycubeResult {
-  RigidAlignment alignment;     ///< input -> aligned frame (identity without align)
-  PseudoPolycube pseudo;        ///< Q, in the aligned frame
-  MorseResolution morse;        ///< eta and the critical levels on Q
-  VoxelGrid voxels;             ///< the optimised polycube's voxels
-  VoxelTopology expected;       ///< of the input solid: components, genus, no voids
-  VoxelTopology initial, final; ///< of the voxel set after voxelization and after optimisation
+  RigidAlignment alignment;             ///< input -> aligned frame (identity without align)
+  PseudoPolycube pseudo;                ///< Q, in the aligned frame
+  MorseResolution morse;                ///< eta and the critical levels on Q
+  VoxelGrid voxels;                     ///< the optimised polycube's voxels
+  VoxelTopology expected;               ///< of the input solid: components, genus, no voids
+  VoxelTopology initial, final;         ///< of the voxel set after voxelization and after optimisation
   std::size_t well_composed_flips = 0;  ///< voxels make_well_composed() flipped
-  int refinements = 0;          ///< times the voxel size was halved to keep the topology
+  int refinements = 0;                  ///< times the voxel size was halved to keep the topology
   PolycubeOptimizationResult optimization;
-  QuadMesh surface;             ///< P = the boundary of the voxels (outward quads)
+  QuadMesh surface;                  ///< P = the boundary of the voxels (outward quads)
   std::vector<std::uint8_t> corner;  ///< per point of `surface`: a polycube corner
   std::vector<std::pair<std::string, double>> stage_seconds;
 };

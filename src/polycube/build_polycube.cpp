@@ -68,17 +68,22 @@ PolycubeResult build_polycube(const TriMesh& input, const PolycubeOptions& optio
   const double finest = longest / std::max(options.max_resolution, 2);
   result.morse = morse_voxel_size(q, options.epsilon_ratio * diagonal, longest / 24);
   double size = options.voxel_size > 0 ? options.voxel_size : std::max(result.morse.size, finest);
+  // Refinement may go to twice max_resolution: the cap is for the first, Morse-chosen size.
   for (;;) {
     if (options.progress) status("polycube: voxelizing at size " + std::to_string(size));
     result.voxels = voxelize(q, size);
-    result.well_composed_flips = make_well_composed(result.voxels);
-    result.initial = voxel_topology(result.voxels);
-    if (same_topology(result.initial, result.expected)) break;
-    if (options.voxel_size > 0 || size / 2 < finest * 0.999 || result.refinements == 3)
-      throw Error("polycube: the voxels at size " + std::to_string(size) + " have " + topology_text(result.initial) +
-                  ", the input " + topology_text(result.expected) +
-                  (options.voxel_size > 0 ? "; try a smaller --voxel-size"
-                                          : "; a finer grid than --max-resolution would be needed"));
+    std::string problem;
+    try {
+      result.well_composed_flips = make_well_composed(result.voxels);
+      result.initial = voxel_topology(result.voxels);
+      if (same_topology(result.initial, result.expected)) break;
+      problem = "the voxels have " + topology_text(result.initial) + ", the input " + topology_text(result.expected);
+    } catch (const Error& e) {
+      problem = e.what();
+    }
+    if (options.voxel_size > 0 || size / 2 < finest / 2 * 0.999 || result.refinements == 3)
+      throw Error("polycube: at voxel size " + std::to_string(size) + ": " + problem +
+                  (options.voxel_size > 0 ? "; try a smaller --voxel-size" : "; a finer grid would be needed"));
     size /= 2;
     ++result.refinements;
   }

@@ -5,16 +5,38 @@
 #include "structmesh/error.hpp"
 #include "structmesh/polycube.hpp"
 
+#include "polycube/voxel_neighbourhood.hpp"
+
 #include <string>
 #include <vector>
 
 namespace structmesh {
 
+namespace {
+
+// Critical blocks among the eight 2x2x2 blocks that contain voxel (x, y, z).
+int critical_blocks_around(const VoxelGrid& grid, int x, int y, int z) {
+  const std::uint32_t config = voxel::neighbourhood(grid, x, y, z);
+  int critical = 0;
+  for (int bz = 0; bz < 2; ++bz)
+    for (int by = 0; by < 2; ++by)
+      for (int bx = 0; bx < 2; ++bx) {
+        const int base = bx + 3 * by + 9 * bz;
+        const unsigned block = ((config >> base) & 3u) | (((config >> (base + 3)) & 3u) << 2) |
+                               (((config >> (base + 9)) & 3u) << 4) | (((config >> (base + 12)) & 3u) << 6);
+        critical += voxel::block_is_critical(block) ? 1 : 0;
+      }
+  return critical;
+}
+
+}  // namespace
+
 std::size_t make_well_composed(VoxelGrid& grid) {
   std::size_t flips = 0;
   std::vector<std::array<int, 3>> bad;
-  // An accepted flip leaves every block around the flipped voxel well-composed and
-  // changes no other block, so the number of critical blocks falls with each flip.
+  // A flip changes only the eight blocks around the flipped voxel and is accepted only
+  // when fewer of them are critical, so the number of critical blocks falls with each
+  // accepted flip and the loop ends.
   for (;;) {
     bad.clear();
     for (int z = 0; z < grid.dims[2]; ++z)
@@ -34,12 +56,13 @@ std::size_t make_well_composed(VoxelGrid& grid) {
             for (int dx = -1; dx <= 1 && !resolved; ++dx) {
               const int u = x + dx, v = y + dy, w = z + dz;
               // The outermost layer stays empty: the grid keeps its empty border.
-              if (u <= 0 || v <= 0 || w <= 0 || u >= grid.dims[0] - 1 || v >= grid.dims[1] - 1 ||
-                  w >= grid.dims[2] - 1)
+              if (u <= 0 || v <= 0 || w <= 0 || u >= grid.dims[0] - 1 || v >= grid.dims[1] - 1 || w >= grid.dims[2] - 1)
                 continue;
               if (grid.at(u, v, w) == add || !is_simple_voxel(grid, u, v, w)) continue;
+              const int before = critical_blocks_around(grid, u, v, w);
+              if (before == 0) continue;  // flipping it cannot resolve anything here
               grid.set(u, v, w, add);
-              if (is_well_composed_near(grid, u, v, w) && is_well_composed_near(grid, x, y, z)) {
+              if (critical_blocks_around(grid, u, v, w) < before) {
                 resolved = true;
                 ++flips;
               } else {

@@ -23,8 +23,7 @@ bool higher(double height_a, Index a, double height_b, Index b) {
 
 MorseResolution morse_voxel_size(const TriMesh& surface, double epsilon, double max_size) {
   if (surface.triangles.empty()) throw InputError("morse_voxel_size: the surface has no triangles");
-  if (!(epsilon > 0) || !(max_size > 0))
-    throw InputError("morse_voxel_size: epsilon and max_size must be positive");
+  if (!(epsilon > 0) || !(max_size > 0)) throw InputError("morse_voxel_size: epsilon and max_size must be positive");
   const std::size_t n = surface.points.size();
   MorseResolution result;
   result.size = max_size;
@@ -39,8 +38,7 @@ MorseResolution morse_voxel_size(const TriMesh& surface, double epsilon, double 
       for (int k = 0; k < 3; ++k) {
         const Index v = t[k], a = t[(k + 1) % 3], b = t[(k + 2) % 3];
         const double hv = surface.points[v][axis];
-        if (higher(surface.points[a][axis], a, hv, v) != higher(surface.points[b][axis], b, hv, v))
-          ++sign_changes[v];
+        if (higher(surface.points[a][axis], a, hv, v) != higher(surface.points[b][axis], b, hv, v)) ++sign_changes[v];
       }
     critical.clear();
     for (std::size_t v = 0; v < n; ++v)
@@ -61,7 +59,8 @@ MorseResolution morse_voxel_size(const TriMesh& surface, double epsilon, double 
       ++members;
     }
     if (members > 0) levels.push_back(sum / static_cast<double>(members));
-    for (std::size_t i = 1; i < levels.size(); ++i) result.size = std::min(result.size, (levels[i] - levels[i - 1]) / 3);
+    for (std::size_t i = 1; i < levels.size(); ++i)
+      result.size = std::min(result.size, (levels[i] - levels[i - 1]) / 3);
   }
   return result;
 }

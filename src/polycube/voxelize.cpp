@@ -5,6 +5,8 @@
 #include "structmesh/error.hpp"
 #include "structmesh/polycube.hpp"
 
+#include <Eigen/Geometry>
+
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include <tbb/blocked_range.h>

@@ -7,6 +7,7 @@
 #include "structmesh/polycube.hpp"
 
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include <cmath>
 #include <cstdlib>
@@ -76,7 +77,8 @@ TriMesh sphere(double r, int rings, int segments) {
   for (int i = 1; i < rings; ++i)
     for (int j = 0; j < segments; ++j) {
       const double polar = std::numbers::pi * i / rings, a = 2 * std::numbers::pi * j / segments;
-      mesh.points.emplace_back(r * std::sin(polar) * std::cos(a), r * std::sin(polar) * std::sin(a), -r * std::cos(polar));
+      mesh.points.emplace_back(r * std::sin(polar) * std::cos(a), r * std::sin(polar) * std::sin(a),
+                               -r * std::cos(polar));
     }
   mesh.points.emplace_back(0, 0, r);
   const auto id = [&](int i, int j) { return static_cast<Index>(1 + (i - 1) * segments + (j + segments) % segments); };
@@ -133,14 +135,15 @@ TEST(BuildPolycube, ABoxIsOneCube) {
   // Its voxels fill a box: count = product of the box's extents in voxels.
   const BoundingBox3 box = bounding_box(result.surface.points);
   const Vec3 extent = (box.max - box.min) / result.voxels.size;
-  EXPECT_NEAR(static_cast<double>(result.voxels.count()), std::round(extent.x()) * std::round(extent.y()) * std::round(extent.z()), 0.5);
+  EXPECT_NEAR(static_cast<double>(result.voxels.count()),
+              std::round(extent.x()) * std::round(extent.y()) * std::round(extent.z()), 0.5);
 }
 
 TEST(BuildPolycube, TorusKeepsItsHandle) {
   const PolycubeResult result = build_polycube(torus(2, 0.6, 64, 32));
   expect_valid_polycube(result, 1);
   EXPECT_LE(result.optimization.after.total, result.optimization.before.total);
-  EXPECT_LT(result.optimization.after.corners, result.optimization.before.corners);
+  EXPECT_EQ(result.optimization.after.corners, 16U);  // the fewest a polycube torus can have
 }
 
 TEST(BuildPolycube, SphereIsABallOfFewCorners) {

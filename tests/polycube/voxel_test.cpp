@@ -100,7 +100,7 @@ bool naive_well_composed(const VoxelGrid& grid) {
 }
 
 /// Removes voxels that sit in critical configurations until there are none.
-void make_well_composed(VoxelGrid& grid) {
+void remove_critical_voxels(VoxelGrid& grid) {
   while (!is_well_composed(grid))
     for (int z = 0; z < grid.dims[2]; ++z)
       for (int y = 0; y < grid.dims[1]; ++y)
@@ -128,7 +128,7 @@ VoxelGrid noise_blob(Triple dims, unsigned seed, int bumps, double threshold) {
         for (const auto& [c, w] : centres) value += w * std::exp(-(p - c).squaredNorm() / (2 * sigma * sigma));
         grid.set(x, y, z, value > threshold);
       }
-  make_well_composed(grid);
+  remove_critical_voxels(grid);
   return grid;
 }
 VoxelGrid noise_blob(int n, unsigned seed, int bumps, double threshold) {

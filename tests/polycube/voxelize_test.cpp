@@ -18,8 +18,8 @@ TriMesh box_surface(const Vec3& lo, const Vec3& hi) {
   TriMesh mesh;
   for (int k = 0; k < 8; ++k)
     mesh.points.emplace_back((k & 1) ? hi.x() : lo.x(), (k & 2) ? hi.y() : lo.y(), (k & 4) ? hi.z() : lo.z());
-  const std::array<std::array<Index, 4>, 6> quads{{{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
-                                                   {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}}};
+  const std::array<std::array<Index, 4>, 6> quads{
+      {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}}};
   for (const auto& q : quads) {
     mesh.triangles.push_back({q[0], q[1], q[2]});
     mesh.triangles.push_back({q[0], q[2], q[3]});
@@ -72,11 +72,13 @@ TEST(Voxelize, BoxKeepsExactlyTheCentresInsideAndAnEmptyLayer) {
     for (int y = 0; y < grid.dims[1]; ++y)
       for (int x = 0; x < grid.dims[0]; ++x) {
         const Vec3 c = voxel_centre(grid, x, y, z);
-        const bool expected = c.x() > 0.03 && c.x() < 1.01 && c.y() > -0.2 && c.y() < 0.55 && c.z() > 0.1 && c.z() < 0.47;
+        const bool expected =
+            c.x() > 0.03 && c.x() < 1.01 && c.y() > -0.2 && c.y() < 0.55 && c.z() > 0.1 && c.z() < 0.47;
         EXPECT_EQ(grid.at(x, y, z), expected) << x << " " << y << " " << z;
         inside += expected;
-        if (x == 0 || y == 0 || z == 0 || x + 1 == grid.dims[0] || y + 1 == grid.dims[1] || z + 1 == grid.dims[2])
+        if (x == 0 || y == 0 || z == 0 || x + 1 == grid.dims[0] || y + 1 == grid.dims[1] || z + 1 == grid.dims[2]) {
           EXPECT_FALSE(grid.at(x, y, z));
+        }
       }
   EXPECT_EQ(grid.count(), inside);
   EXPECT_GT(inside, 100U);
@@ -157,7 +159,7 @@ TEST(VertexDistances, MatchTheDistanceToABoxInTheBandAndBoundItOutside) {
   const Vec3 lo(0.1, 0.2, 0.3), hi(1.3, 0.9, 0.8);
   const TriMesh box = box_surface(lo, hi);
   const VoxelGrid grid = voxelize(box, 0.05);
-  const int band = 3;
+  const int band = 2;
   const std::vector<double> distance = vertex_distances(grid, box, band);
   ASSERT_EQ(distance.size(), grid.vertex_count());
   std::size_t exact = 0, far = 0;
