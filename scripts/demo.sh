@@ -45,6 +45,9 @@ if [[ -d "$data" ]]; then
     -o "$out/rocker-arm-guards.png" --json "$out/rocker-arm-guard-report.json"
   "$sm" star "$out/rocker-arm.mesh" --guards "$out/rocker-arm-guards.json" -o "$out/rocker-arm-parts.vtu" \
     -o "$out/rocker-arm-parts.png" --json "$out/rocker-arm-parts.json"
+  echo "== 3D (ch. 4): the rocker arm's polycube domain (deformed, voxelized, optimised)"
+  "$sm" polycube "$data/surfaces/rocker-arm.obj" -o "$out/rocker-arm-polycube.obj" -o "$out/rocker-arm-polycube.png" \
+    --deformed "$out/rocker-arm-pseudo-polycube.obj" --json "$out/rocker-arm-polycube.json"
   # A model with defects: check reports them and exits 2, which the demo expects.
   if "$sm" check "$data/surfaces/tosca_centaur.off" --json "$out/centaur-check.json"; then
     echo "unexpected: centaur reported valid" >&2

@@ -36,8 +36,10 @@ std::size_t make_well_composed(VoxelGrid& grid) {
   std::vector<std::array<int, 3>> bad;
   // A flip changes only the eight blocks around the flipped voxel and is accepted only
   // when fewer of them are critical, so the number of critical blocks falls with each
-  // accepted flip and the loop ends.
-  for (;;) {
+  // accepted flip. When no such flip is left, a patient pass also accepts additions that
+  // keep the count (a configuration may need two voxels added); the count never rises
+  // and between two falls only additions happen, so the loop ends.
+  for (bool patient = false;;) {
     bad.clear();
     for (int z = 0; z < grid.dims[2]; ++z)
       for (int y = 0; y < grid.dims[1]; ++y)
@@ -50,7 +52,8 @@ std::size_t make_well_composed(VoxelGrid& grid) {
       // The voxels of the eight blocks around (x, y, z): additions first (they
       // thicken an edge or vertex contact into a face contact), then removals.
       bool resolved = false;
-      for (const bool add : {true, false})
+      for (const bool add : {true, false}) {
+        if (patient && !add) continue;
         for (int dz = -1; dz <= 1 && !resolved; ++dz)
           for (int dy = -1; dy <= 1 && !resolved; ++dy)
             for (int dx = -1; dx <= 1 && !resolved; ++dx) {
@@ -62,15 +65,22 @@ std::size_t make_well_composed(VoxelGrid& grid) {
               const int before = critical_blocks_around(grid, u, v, w);
               if (before == 0) continue;  // flipping it cannot resolve anything here
               grid.set(u, v, w, add);
-              if (critical_blocks_around(grid, u, v, w) < before) {
+              const int after = critical_blocks_around(grid, u, v, w);
+              if (after < before || (patient && after == before)) {
                 resolved = true;
                 ++flips;
               } else {
                 grid.set(u, v, w, !add);
               }
             }
+      }
       progress = progress || resolved;
     }
+    if (!progress && !patient) {
+      patient = true;
+      continue;
+    }
+    patient = false;
     if (!progress)
       throw Error("make_well_composed: " + std::to_string(bad.size()) +
                   " voxels touch others only along an edge or at a corner and no simple flip resolves them (first at " +
