@@ -20,12 +20,8 @@ int critical_blocks_around(const VoxelGrid& grid, int x, int y, int z) {
   int critical = 0;
   for (int bz = 0; bz < 2; ++bz)
     for (int by = 0; by < 2; ++by)
-      for (int bx = 0; bx < 2; ++bx) {
-        const int base = bx + 3 * by + 9 * bz;
-        const unsigned block = ((config >> base) & 3u) | (((config >> (base + 3)) & 3u) << 2) |
-                               (((config >> (base + 9)) & 3u) << 4) | (((config >> (base + 12)) & 3u) << 6);
-        critical += voxel::block_is_critical(block) ? 1 : 0;
-      }
+      for (int bx = 0; bx < 2; ++bx)
+        critical += voxel::block_is_critical(voxel::block_of_configuration(config, bx, by, bz)) ? 1 : 0;
   return critical;
 }
 

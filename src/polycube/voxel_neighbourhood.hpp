@@ -33,6 +33,14 @@ inline std::uint32_t neighbourhood(const VoxelGrid& grid, int x, int y, int z) {
   return config;
 }
 
+/// The 2x2x2 block of a 27-bit configuration around corner (bx, by, bz) of the centre
+/// voxel (offsets b + e, e in {0, 1}^3), as 8 bits, x fastest.
+inline unsigned block_of_configuration(std::uint32_t config, int bx, int by, int bz) {
+  const int base = bx + 3 * by + 9 * bz;
+  return ((config >> base) & 3u) | (((config >> (base + 3)) & 3u) << 2) | (((config >> (base + 9)) & 3u) << 4) |
+         (((config >> (base + 12)) & 3u) << 6);
+}
+
 /// The (26, 6) simple point test on a 27-bit configuration (the centre's bit is
 /// ignored): T26 = 1 and T6 = 1. simple_voxel.cpp.
 bool is_simple_configuration(std::uint32_t config);

@@ -29,16 +29,10 @@ constexpr std::array<bool, 256> kCritical = [] {
 }  // namespace
 
 bool is_well_composed_configuration(std::uint32_t config) {
-  // The block around corner (bx, by, bz) of the centre voxel spans offsets b + e,
-  // e in {0, 1}^3, of the 3x3x3 neighbourhood.
   for (int bz = 0; bz < 2; ++bz)
     for (int by = 0; by < 2; ++by)
-      for (int bx = 0; bx < 2; ++bx) {
-        const int base = bx + 3 * by + 9 * bz;
-        const unsigned block = ((config >> base) & 3u) | (((config >> (base + 3)) & 3u) << 2) |
-                               (((config >> (base + 9)) & 3u) << 4) | (((config >> (base + 12)) & 3u) << 6);
-        if (kCritical[block]) return false;
-      }
+      for (int bx = 0; bx < 2; ++bx)
+        if (kCritical[block_of_configuration(config, bx, by, bz)]) return false;
   return true;
 }
 

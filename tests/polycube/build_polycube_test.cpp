@@ -1,6 +1,7 @@
 // build_polycube() end to end (chapter 4): a box gives a single cube; a torus, a sphere
 // and the data set's genus-1 and genus-3 models give valid orthogonal polyhedra (closed
 // 2-manifold quad surfaces, every quad axis-aligned) with the input's topology.
+#include "polycube/shapes.hpp"
 #include "structmesh/check.hpp"
 #include "structmesh/error.hpp"
 #include "structmesh/io.hpp"
@@ -18,6 +19,8 @@
 
 namespace structmesh {
 namespace {
+
+using test::torus;
 
 std::filesystem::path data_dir() {
   const char* env = std::getenv("STRUCTMESH_DATA");
@@ -49,23 +52,6 @@ TriMesh subdivided_box(double a, double b, double c, int n) {
           mesh.triangles.push_back({q[0], q[1], q[2]});
           mesh.triangles.push_back({q[0], q[2], q[3]});
         }
-    }
-  return mesh;
-}
-
-TriMesh torus(double big, double small, int u, int v) {
-  TriMesh mesh;
-  for (int i = 0; i < u; ++i)
-    for (int j = 0; j < v; ++j) {
-      const double a = 2 * std::numbers::pi * i / u, b = 2 * std::numbers::pi * j / v;
-      mesh.points.emplace_back((big + small * std::cos(b)) * std::cos(a), (big + small * std::cos(b)) * std::sin(a),
-                               small * std::sin(b));
-    }
-  const auto id = [&](int i, int j) { return static_cast<Index>(((i + u) % u) * v + (j + v) % v); };
-  for (int i = 0; i < u; ++i)
-    for (int j = 0; j < v; ++j) {
-      mesh.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-      mesh.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
     }
   return mesh;
 }

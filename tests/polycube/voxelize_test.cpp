@@ -1,6 +1,7 @@
 // Voxelization of §4.4.1: the scanline fill against analytic inside tests (rays through
 // vertices and edges included), the Morse resolution on shapes with known critical
 // heights, and the distance field against analytic distances.
+#include "polycube/shapes.hpp"
 #include "structmesh/error.hpp"
 #include "structmesh/polycube.hpp"
 
@@ -12,6 +13,8 @@
 
 namespace structmesh {
 namespace {
+
+using test::torus;
 
 /// Axis-aligned box [lo, hi], 12 outward triangles.
 TriMesh box_surface(const Vec3& lo, const Vec3& hi) {
@@ -39,24 +42,6 @@ TriMesh octahedron(double r) {
         const bool flip = ((x == 1) + (y == 3) + (z == 5)) % 2 == 1;
         mesh.triangles.push_back(flip ? std::array<Index, 3>{x, z, y} : std::array<Index, 3>{x, y, z});
       }
-  return mesh;
-}
-
-/// Torus around the z axis (radii R, r), `u` x `v` vertices, vertex 0 at (R + r, 0, 0).
-TriMesh torus(double big, double small, int u, int v) {
-  TriMesh mesh;
-  for (int i = 0; i < u; ++i)
-    for (int j = 0; j < v; ++j) {
-      const double a = 2 * std::numbers::pi * i / u, b = 2 * std::numbers::pi * j / v;
-      mesh.points.emplace_back((big + small * std::cos(b)) * std::cos(a), (big + small * std::cos(b)) * std::sin(a),
-                               small * std::sin(b));
-    }
-  const auto id = [&](int i, int j) { return static_cast<Index>(((i + u) % u) * v + (j + v) % v); };
-  for (int i = 0; i < u; ++i)
-    for (int j = 0; j < v; ++j) {
-      mesh.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-      mesh.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-    }
   return mesh;
 }
 
