@@ -1,0 +1,137 @@
+// Polycube hex meshing (dissertation chapter 5): the volumetric map of the input solid
+// onto its polycube, hex extraction on the polycube's integer grid, padding (pillowing),
+// and post-smoothing that never inverts and keeps the boundary on the input surface.
+#pragma once
+
+#include "structmesh/mesh.hpp"
+#include "structmesh/polycube.hpp"
+#include "structmesh/quality.hpp"
+
+#include <cstddef>
+#include <functional>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace structmesh {
+
+// ---------------------------------------------------------------------------
+// Hex-mesh building blocks
+
+/// The hexes of a voxel set with every voxel split into subdivisions^3 hexes (VTK node
+/// order, positive orientation), on the shared lattice points only (no unused point).
+/// InputError unless subdivisions >= 1.
+HexMesh voxel_hex_grid(const VoxelGrid& grid, int subdivisions);
+
+/// The boundary of a hex mesh: faces used by one hex, outward, in build_faces() order, on the
+/// hex mesh's own point indices.
+std::vector<std::array<Index, 4>> hex_boundary_quads(const HexMesh& mesh);
+
+/// Pillowing (padding, one layer): every boundary point p is duplicated; the copy keeps p's
+/// position and becomes the new boundary point, the original moves inward by `depth` along the
+/// offset direction m of its boundary quads (m . n_f = 1 for each distinct unit normal n_f of
+/// its boundary quads, least squares; the exact inward offset of planes for an orthogonal
+/// polyhedron), and every boundary quad gets one new hex between its old and new points. So
+/// no hex of the result has two faces on the boundary. `outer_of` (if given) receives, per
+/// point of the result, the point it was copied from (itself for old points), and
+/// `is_outer` 1 for the new boundary points. InputError if depth <= 0.
+HexMesh pillow(const HexMesh& mesh, double depth, std::vector<Index>* copied_from = nullptr,
+               std::vector<std::uint8_t>* is_outer = nullptr);
+
+/// The closest point on a triangle surface (CGAL AABB tree; thread-safe queries).
+class SurfaceProjection {
+ public:
+  explicit SurfaceProjection(const TriMesh& surface);
+  ~SurfaceProjection();
+  SurfaceProjection(SurfaceProjection&&) noexcept;
+  SurfaceProjection& operator=(SurfaceProjection&&) noexcept;
+  /// Closest point, and (if given) the triangle it lies on and its barycentric coordinates.
+  Vec3 closest_point(const Vec3& p, Index* triangle = nullptr, Vec3* barycentric = nullptr) const;
+  /// Squared distance from p to the surface.
+  double squared_distance(const Vec3& p) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+struct HexSmoothingOptions {
+  int iterations = 30;             ///< sweeps over all points
+  bool move_boundary = true;       ///< boundary points slide on the target surface
+  double min_improvement = 1e-4;   ///< stop when the mean scaled Jacobian gains less per sweep
+  bool progress = false;
+};
+
+struct HexSmoothingResult {
+  std::size_t inverted_before = 0, inverted_after = 0;  ///< hexes with scaled Jacobian <= 0
+  double min_scaled_jacobian_before = 0, min_scaled_jacobian_after = 0;
+  double mean_scaled_jacobian_before = 0, mean_scaled_jacobian_after = 0;
+  int sweeps = 0;
+};
+
+/// Untangling and smoothing of a hex mesh in place. Inverted hexes are untangled first
+/// (each point moved to raise the smallest corner Jacobian of its hexes); then every point
+/// moves to improve the worst scaled Jacobian of the hexes around it, and a move is accepted
+/// only if that worst value does not drop (so no valid hex ever inverts). Boundary points
+/// (points of hex_boundary_quads) are moved and then put back with `project` when
+/// move_boundary is set, and stay where they are otherwise. `project` must be thread-safe.
+HexSmoothingResult smooth_hex_mesh(HexMesh& mesh, const std::function<Vec3(const Vec3&)>& project,
+                                   const HexSmoothingOptions& options = {});
+
+// ---------------------------------------------------------------------------
+// The volumetric polycube map (§5.2) and the whole pipeline
+
+struct VolumetricMapOptions {
+  int frame_smoothing_iterations = 0;  ///< 0: a direct sparse solve of the frames' smoothness
+  int untangle_sweeps = 100;           ///< at most this many sweeps of local untangling
+  bool progress = false;
+};
+
+struct VolumetricMap {
+  std::vector<Vec3> parameter;   ///< per tet-mesh point: its position in the parameter domain
+  std::size_t flipped_before_untangling = 0;
+  std::size_t flipped = 0;       ///< tets with non-positive parameter volume after untangling
+  double volume_distortion = 0;  ///< D_v of §5.3 (1 for a volume-preserving map)
+  double seconds_frames = 0, seconds_solve = 0, seconds_untangle = 0;
+};
+
+/// The volumetric map of §5.2.2: a frame field on the tets (boundary tets take the rotation of
+/// their boundary face from `boundary_source` to `boundary_target`, interior frames minimise
+/// the smoothness energy C_S over the dual graph), then the positions minimising (5.1),
+/// sum over tets of vol(t) |grad u^k - X^k|^2, with every boundary point fixed at its target
+/// (sparse Cholesky: CHOLMOD), then local untangling of any flipped tet. `tets` has the
+/// surface points first (tetrahedralize()'s layout): point i < boundary_target.size() is
+/// boundary point i. InputError when the sizes do not match.
+VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source, const TriMesh& boundary_target,
+                             const VolumetricMapOptions& options = {});
+
+struct HexOptions {
+  PolycubeOptions polycube;
+  std::size_t target_hexes = 0;  ///< about this many hexes (0: use `size`)
+  double size = 0;               ///< hex edge length in the input's units (0 with no target: 1 per voxel)
+  bool padding = true;           ///< one pillow layer under the boundary
+  double tet_size = 0;           ///< tet edge length of the map's mesh (0: the surface's mean edge)
+  HexSmoothingOptions smoothing;
+  bool progress = false;
+};
+
+struct HexResult {
+  HexMesh mesh;                      ///< in the input's frame
+  PolycubeResult polycube;           ///< the domain (chapter 4)
+  TetMesh tets;                      ///< the input solid's tet mesh
+  std::vector<Vec3> parameter;       ///< its points in the parameter domain
+  VolumetricMap map;                 ///< statistics of the map
+  int subdivisions = 1;              ///< hexes per voxel edge
+  std::size_t padding_hexes = 0;
+  HexSmoothingResult smoothing;
+  HexQuality quality;
+  double geometric_deviation = 0;    ///< D_g: Hausdorff(hex boundary, input) / input diagonal
+  std::vector<std::pair<std::string, double>> stage_seconds;
+};
+
+/// Chapters 4-5 end to end: the polycube, the tet mesh, the volumetric map, the integer grid
+/// of the polycube with padding, mapped back by barycentric interpolation, then smoothed.
+HexResult polycube_hex_mesh(const TriMesh& surface, const HexOptions& options = {});
+
+}  // namespace structmesh
