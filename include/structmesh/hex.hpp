@@ -19,10 +19,13 @@ namespace structmesh {
 // ---------------------------------------------------------------------------
 // Hex-mesh building blocks
 
-/// The hexes of a voxel set with every voxel split into subdivisions^3 hexes (VTK node
-/// order, positive orientation), on the shared lattice points only (no unused point).
-/// InputError unless subdivisions >= 1.
-HexMesh voxel_hex_grid(const VoxelGrid& grid, int subdivisions);
+/// The hex grid of a polycube (a voxel set): per axis, the planes of its facets cut the
+/// domain into slabs, each slab is split into max(1, round(thickness / hex_size)) layers
+/// (one layer each when hex_size <= 0), and every cell of this tensor-product grid inside the
+/// polycube becomes a hex (no facet lies inside a slab, so each cell is wholly in or out).
+/// VTK node order, positive orientation, only the points hexes use. Coordinates are the
+/// voxel grid's (origin + size * lattice), so facets of the polycube are grid faces.
+HexMesh polycube_hex_grid(const VoxelGrid& grid, double hex_size);
 
 /// The boundary of a hex mesh: faces used by one hex, outward, in build_faces() order, on the
 /// hex mesh's own point indices.
@@ -57,9 +60,9 @@ class SurfaceProjection {
 };
 
 struct HexSmoothingOptions {
-  int iterations = 30;             ///< sweeps over all points
-  bool move_boundary = true;       ///< boundary points slide on the target surface
-  double min_improvement = 1e-4;   ///< stop when the mean scaled Jacobian gains less per sweep
+  int iterations = 30;            ///< sweeps over all points
+  bool move_boundary = true;      ///< boundary points slide on the target surface
+  double min_improvement = 1e-4;  ///< stop when the mean scaled Jacobian gains less per sweep
   bool progress = false;
 };
 
@@ -89,7 +92,7 @@ struct VolumetricMapOptions {
 };
 
 struct VolumetricMap {
-  std::vector<Vec3> parameter;   ///< per tet-mesh point: its position in the parameter domain
+  std::vector<Vec3> parameter;  ///< per tet-mesh point: its position in the parameter domain
   std::size_t flipped_before_untangling = 0;
   std::size_t flipped = 0;       ///< tets with non-positive parameter volume after untangling
   double volume_distortion = 0;  ///< D_v of §5.3 (1 for a volume-preserving map)
@@ -111,22 +114,24 @@ struct HexOptions {
   std::size_t target_hexes = 0;  ///< about this many hexes (0: use `size`)
   double size = 0;               ///< hex edge length in the input's units (0 with no target: 1 per voxel)
   bool padding = true;           ///< one pillow layer under the boundary
+  double padding_depth = 0.3;    ///< the pillow layer's depth, share of the mean boundary edge
   double tet_size = 0;           ///< tet edge length of the map's mesh (0: the surface's mean edge)
   HexSmoothingOptions smoothing;
   bool progress = false;
 };
 
 struct HexResult {
-  HexMesh mesh;                      ///< in the input's frame
-  PolycubeResult polycube;           ///< the domain (chapter 4)
-  TetMesh tets;                      ///< the input solid's tet mesh
-  std::vector<Vec3> parameter;       ///< its points in the parameter domain
-  VolumetricMap map;                 ///< statistics of the map
-  int subdivisions = 1;              ///< hexes per voxel edge
+  HexMesh mesh;                 ///< in the input's frame
+  PolycubeResult polycube;      ///< the domain (chapter 4)
+  TetMesh tets;                 ///< the input solid's tet mesh
+  std::vector<Vec3> parameter;  ///< its points in the parameter domain
+  VolumetricMap map;            ///< statistics of the map
+  double hex_size = 0;          ///< the grid's target edge length in the parameter domain
   std::size_t padding_hexes = 0;
+  std::size_t interior_points_outside = 0;  ///< grid points outside Q, put on it before smoothing
   HexSmoothingResult smoothing;
   HexQuality quality;
-  double geometric_deviation = 0;    ///< D_g: Hausdorff(hex boundary, input) / input diagonal
+  double geometric_deviation = 0;  ///< D_g: Hausdorff(hex boundary, input) / input diagonal
   std::vector<std::pair<std::string, double>> stage_seconds;
 };
 

@@ -1,0 +1,206 @@
+// polycube_hex_mesh(): chapters 4 and 5 end to end.
+//
+//   surface S --build_polycube--> Q (pseudo-polycube), P (voxel polycube), alignment
+//   S --tetrahedralize--> M (tet mesh, S's points first)
+//   M --volumetric_map--> parameter positions of M's points, boundary pinned to Q
+//   P --polycube_hex_grid--> Omega_H in parameter space
+//   Omega_H --phi^-1 (barycentric in M's parameter image)--> hexes in the aligned frame
+//   --pillow--> one padding layer --unalign, smooth_hex_mesh--> the hex mesh
+//
+// How the grid meets the map. §5.2.1 maps S onto P and pins the map's boundary to P; here
+// the map's boundary is Q, whose correspondence with S is exact (same connectivity), and P's
+// grid is fitted to Q instead: each boundary point of the grid goes to its closest point on
+// Q, each interior point is located in M's parameter image. P and Q differ by about a voxel
+// (P is Q's voxelization, optimised with the distance term of (4.1)), less than a hex layer
+// at the usual hex sizes, so this keeps the grid's structure (P's corners, edges and facets)
+// while every boundary point lands exactly on S. Pinning S to Q also spares the surface map's
+// flip repair: Q is a deformation of S checked free of self-intersections.
+#include "structmesh/error.hpp"
+#include "structmesh/hex.hpp"
+#include "structmesh/progress.hpp"
+#include "structmesh/quality.hpp"
+#include "structmesh/tetmesh.hpp"
+#include "tet_locator.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace structmesh {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+class StageTimer {
+ public:
+  explicit StageTimer(std::vector<std::pair<std::string, double>>& stages) : stages_(stages) {}
+  void stop(const std::string& name) {
+    const auto now = Clock::now();
+    stages_.emplace_back(name, std::chrono::duration<double>(now - start_).count());
+    start_ = now;
+  }
+
+ private:
+  std::vector<std::pair<std::string, double>>& stages_;
+  Clock::time_point start_ = Clock::now();
+};
+
+/// The grid's hex count (padding included) for a hex size.
+std::size_t hex_count(const VoxelGrid& voxels, double hex_size, bool padding) {
+  const HexMesh grid = polycube_hex_grid(voxels, hex_size);
+  return grid.hexes.size() + (padding ? hex_boundary_quads(grid).size() : 0);
+}
+
+/// The hex size whose grid has about `target` hexes: bisection on log(size) (the count falls
+/// as the size grows, in steps). 0 when even one layer per slab gives more than the target.
+double hex_size_for_count(const VoxelGrid& voxels, std::size_t target, bool padding) {
+  if (hex_count(voxels, 0, padding) >= target) return 0;
+  double lo = voxels.size / 16, hi = voxels.size * std::max({voxels.dims[0], voxels.dims[1], voxels.dims[2]});
+  for (int i = 0; i < 20; ++i) {
+    const double mid = std::sqrt(lo * hi);
+    if (hex_count(voxels, mid, padding) > target)
+      lo = mid;
+    else
+      hi = mid;
+    if (hi / lo < 1.01) break;
+  }
+  return std::sqrt(lo * hi);
+}
+
+TriMesh triangulated_boundary(const HexMesh& mesh) {
+  TriMesh surface;
+  surface.points = mesh.points;
+  for (const auto& q : hex_boundary_quads(mesh)) {
+    surface.triangles.push_back({q[0], q[1], q[2]});
+    surface.triangles.push_back({q[0], q[2], q[3]});
+  }
+  return surface;
+}
+
+}  // namespace
+
+HexResult polycube_hex_mesh(const TriMesh& surface, const HexOptions& options) {
+  if (options.size < 0 || !std::isfinite(options.size))
+    throw InputError("hex: --size must be a finite length >= 0, got " + std::to_string(options.size));
+  HexResult result;
+  StageTimer timer(result.stage_seconds);
+
+  // Chapter 4: the polycube (alignment, Q, voxels, optimisation).
+  PolycubeOptions polycube_options = options.polycube;
+  polycube_options.progress = options.progress || polycube_options.progress;
+  result.polycube = build_polycube(surface, polycube_options);
+  const PolycubeResult& polycube = result.polycube;
+  for (const auto& stage : polycube.stage_seconds) result.stage_seconds.push_back(stage);
+  timer.stop("polycube (total)");
+
+  // The input solid's tet mesh, in the aligned frame (the frame of Q and P).
+  TriMesh aligned = surface;
+  for (Vec3& p : aligned.points) p = polycube.alignment.apply(p);
+  if (options.progress) status("hex: tetrahedralizing the solid");
+  TetmeshOptions tet_options;
+  tet_options.size = options.tet_size;
+  tet_options.check_input = false;  // build_polycube() has checked the surface
+  TetmeshResult tets = tetrahedralize(aligned, tet_options);
+  result.tets = std::move(tets.mesh);
+  timer.stop("tet mesh");
+
+  // §5.2.2: the volumetric map onto the pseudo-polycube's solid.
+  if (options.progress)
+    status("hex: volumetric map of " + std::to_string(result.tets.tets.size()) + " tets (frames, (5.1), untangling)");
+  VolumetricMapOptions map_options;
+  map_options.progress = options.progress;
+  result.map = volumetric_map(result.tets, aligned, polycube.pseudo.surface, map_options);
+  result.parameter = result.map.parameter;
+  timer.stop("volumetric map");
+
+  // The integer grid on P (§5.3): hex size from the requested count or length.
+  if (options.target_hexes > 0)
+    result.hex_size = hex_size_for_count(polycube.voxels, options.target_hexes, options.padding);
+  else
+    result.hex_size = options.size;
+  HexMesh grid = polycube_hex_grid(polycube.voxels, result.hex_size);
+  if (grid.hexes.empty()) throw Error("hex: the polycube has no voxels");
+  if (options.progress)
+    status("hex: grid of " + std::to_string(grid.hexes.size()) + " hexes (hex size " + std::to_string(result.hex_size) +
+           ")");
+  timer.stop("hex grid");
+
+  // phi^-1: boundary points through their closest point on Q, interior points through M's
+  // parameter image; both by barycentric interpolation onto the aligned input.
+  std::vector<std::uint8_t> on_boundary(grid.points.size(), 0);
+  for (const auto& q : hex_boundary_quads(grid))
+    for (Index v : q) on_boundary[v] = 1;
+  const SurfaceProjection onto_q(polycube.pseudo.surface);
+  const hex_detail::TetLocator locator(result.parameter, result.tets.tets);
+  std::vector<Vec3> mapped(grid.points.size());
+  std::vector<std::uint8_t> outside(grid.points.size(), 0);
+  auto through_surface = [&](const Vec3& p) {
+    Index triangle = 0;
+    Vec3 barycentric;
+    onto_q.closest_point(p, &triangle, &barycentric);
+    const auto& t = aligned.triangles[triangle];
+    return Vec3(barycentric[0] * aligned.points[t[0]] + barycentric[1] * aligned.points[t[1]] +
+                barycentric[2] * aligned.points[t[2]]);
+  };
+  tbb::parallel_for(std::size_t{0}, grid.points.size(), [&](std::size_t v) {
+    const Vec3& p = grid.points[v];
+    if (on_boundary[v]) {
+      mapped[v] = through_surface(p);
+      return;
+    }
+    const hex_detail::TetLocation where = locator.locate(p);
+    if (!where.inside) {
+      // Outside Q (P pokes out of it here): the nearest point of Q stands in; the smoothing
+      // below moves it back inside.
+      outside[v] = 1;
+      mapped[v] = through_surface(p);
+      return;
+    }
+    const auto& tet = result.tets.tets[where.tet];
+    Vec3 x = Vec3::Zero();
+    for (int c = 0; c < 4; ++c) x += where.barycentric[static_cast<std::size_t>(c)] * result.tets.points[tet[c]];
+    mapped[v] = x;
+  });
+  result.interior_points_outside = static_cast<std::size_t>(std::count(outside.begin(), outside.end(), 1));
+  grid.points = std::move(mapped);
+  timer.stop("inverse map");
+
+  // Padding (§5.4's "padding layers"): one pillow layer under the boundary.
+  if (options.padding) {
+    double edge_sum = 0;
+    std::size_t edges = 0;
+    for (const auto& q : hex_boundary_quads(grid))
+      for (int i = 0; i < 4; ++i) {
+        edge_sum +=
+            (grid.points[q[static_cast<std::size_t>(i)]] - grid.points[q[static_cast<std::size_t>((i + 1) % 4)]])
+                .norm();
+        ++edges;
+      }
+    const double depth = options.padding_depth * edge_sum / static_cast<double>(std::max<std::size_t>(edges, 1));
+    const std::size_t before = grid.hexes.size();
+    grid = pillow(grid, depth);
+    result.padding_hexes = grid.hexes.size() - before;
+  }
+  for (Vec3& p : grid.points) p = polycube.alignment.unapply(p);
+  timer.stop("padding");
+
+  // Post-smoothing: untangle, then raise the worst scaled Jacobian, boundary on the input.
+  const SurfaceProjection onto_input(surface);
+  HexSmoothingOptions smoothing = options.smoothing;
+  smoothing.progress = options.progress || smoothing.progress;
+  result.smoothing = smooth_hex_mesh(
+      grid, [&](const Vec3& p) { return onto_input.closest_point(p); }, smoothing);
+  timer.stop("smoothing");
+
+  result.mesh = std::move(grid);
+  result.quality = hex_quality(result.mesh);
+  result.geometric_deviation = hausdorff_distance(surface, triangulated_boundary(result.mesh)).relative;
+  timer.stop("quality");
+  return result;
+}
+
+}  // namespace structmesh

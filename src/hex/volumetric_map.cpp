@@ -1,0 +1,315 @@
+// volumetric_map(): the volumetric polycube parameterization of §5.2.2.
+//
+// 1. Boundary frames. Each boundary tet takes the rotation carrying its boundary face from
+//    the source surface S to the target surface (the frame of the face: first edge, in-plane
+//    perpendicular, normal, on both sides). The dissertation sets one frame vector along the
+//    face normal and lets the in-plane pair be optimised; the rotation of the pre-deformation
+//    fixes that pair the way the surface map already did.
+// 2. Interior frames minimise the smoothness energy C_S over the dual graph (face-adjacent
+//    tets). §5.2.2 interpolates Euler angles; here the unit quaternions are interpolated
+//    (harmonically, then normalised), which is the same linear solve without the gimbal
+//    singularities and wrap-around of Euler angles. Rotations of the pre-deformation stay well
+//    below 180 degrees, so one hemisphere (w >= 0) holds them all.
+// 3. Positions minimise (5.1): sum_t vol(t) |grad u^k - X^k_t|^2, with X^k_t the k-th row of
+//    the tet's rotation (the map's Jacobian should be that rotation) and every boundary point
+//    fixed at its target. The normal equations are the cotangent stiffness matrix K (one for
+//    all three coordinates) with right-hand sides div X^k; CHOLMOD factors K once.
+//    The dissertation lets boundary points slide within their polycube facets; here the
+//    boundary is the pseudo-polycube Q of §4.3 with its exact correspondence to S, and the
+//    polycube's grid is fitted to Q afterwards (see polycube_hex_mesh.cpp), so every
+//    boundary point is pinned.
+// 4. Untangling. A tet the linear map still inverts (it happens where the frames twist fast)
+//    is repaired by moving its interior points to minimise Knupp's untangling function
+//    sum_t (|V_t - beta_t| - (V_t - beta_t))^2 (Knupp 2001, the "Untangle" metric of [119]),
+//    which is zero exactly when every tet around the point has volume >= beta_t.
+#include "structmesh/error.hpp"
+#include "structmesh/hex.hpp"
+#include "structmesh/progress.hpp"
+#include "structmesh/quality.hpp"
+
+#include <Eigen/CholmodSupport>
+#include <Eigen/Geometry>
+#include <Eigen/SparseCore>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace structmesh {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+/// Orthonormal frame of a triangle: first edge, in-plane perpendicular, normal (columns).
+bool triangle_frame(const Vec3& a, const Vec3& b, const Vec3& c, Eigen::Matrix3d& frame) {
+  const Vec3 e = b - a;
+  const Vec3 n = e.cross(c - a);
+  if (!(e.norm() > 0) || !(n.norm() > 0)) return false;
+  const Vec3 e1 = e.normalized(), e3 = n.normalized();
+  frame.col(0) = e1;
+  frame.col(1) = e3.cross(e1);
+  frame.col(2) = e3;
+  return true;
+}
+
+/// Gradients of the four barycentric functions of a tet (rows), and its signed volume.
+bool barycentric_gradients(const std::array<Vec3, 4>& p, Eigen::Matrix<double, 4, 3>& gradient, double& volume) {
+  Eigen::Matrix3d edges;
+  edges.col(0) = p[1] - p[0];
+  edges.col(1) = p[2] - p[0];
+  edges.col(2) = p[3] - p[0];
+  const double det = edges.determinant();
+  volume = det / 6;
+  if (!(std::abs(det) > 0)) return false;
+  const Eigen::Matrix3d inverse = edges.inverse();
+  gradient.block<3, 3>(1, 0) = inverse;
+  gradient.row(0) = -inverse.colwise().sum();
+  return true;
+}
+
+struct TriangleKey {
+  std::array<Index, 3> v;
+  bool operator==(const TriangleKey& o) const { return v == o.v; }
+};
+struct TriangleKeyHash {
+  std::size_t operator()(const TriangleKey& k) const {
+    return (static_cast<std::size_t>(k.v[0]) * 73856093u) ^ (static_cast<std::size_t>(k.v[1]) * 19349663u) ^
+           (static_cast<std::size_t>(k.v[2]) * 83492791u);
+  }
+};
+TriangleKey sorted_key(Index a, Index b, Index c) {
+  std::array<Index, 3> v{a, b, c};
+  std::sort(v.begin(), v.end());
+  return {v};
+}
+
+double tet_volume(const std::vector<Vec3>& points, const std::array<Index, 4>& t) {
+  return tet_signed_volume(points[t[0]], points[t[1]], points[t[2]], points[t[3]]);
+}
+
+}  // namespace
+
+VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source, const TriMesh& boundary_target,
+                             const VolumetricMapOptions& options) {
+  const std::size_t boundary_count = boundary_source.points.size();
+  if (boundary_target.points.size() != boundary_count || boundary_target.triangles != boundary_source.triangles)
+    throw InputError("volumetric_map: the source and target surfaces must share their triangles (" +
+                     std::to_string(boundary_count) + " and " + std::to_string(boundary_target.points.size()) +
+                     " points)");
+  if (tets.points.size() < boundary_count || tets.tets.empty())
+    throw InputError("volumetric_map: the tet mesh must start with the surface's points and have tets");
+  for (std::size_t i = 0; i < boundary_count; ++i)
+    if (tets.points[i] != boundary_source.points[i])
+      throw InputError("volumetric_map: tet-mesh point " + std::to_string(i) + " is not the surface's point " +
+                       std::to_string(i));
+  VolumetricMap result;
+  auto start = Clock::now();
+  const std::size_t tet_count = tets.tets.size(), point_count = tets.points.size();
+
+  // --- 1. boundary frames: the rotation of each surface triangle from S to the target.
+  std::unordered_map<TriangleKey, Index, TriangleKeyHash> triangle_of;
+  triangle_of.reserve(boundary_source.triangles.size() * 2);
+  std::vector<Eigen::Quaterniond> triangle_rotation(boundary_source.triangles.size(), Eigen::Quaterniond::Identity());
+  for (std::size_t f = 0; f < boundary_source.triangles.size(); ++f) {
+    const auto& t = boundary_source.triangles[f];
+    triangle_of.emplace(sorted_key(t[0], t[1], t[2]), static_cast<Index>(f));
+    Eigen::Matrix3d frame_source, frame_target;
+    if (triangle_frame(boundary_source.points[t[0]], boundary_source.points[t[1]], boundary_source.points[t[2]],
+                       frame_source) &&
+        triangle_frame(boundary_target.points[t[0]], boundary_target.points[t[1]], boundary_target.points[t[2]],
+                       frame_target)) {
+      Eigen::Quaterniond q(Eigen::Matrix3d(frame_target * frame_source.transpose()));
+      if (q.w() < 0) q.coeffs() = -q.coeffs();
+      triangle_rotation[f] = q.normalized();
+    }
+  }
+  const FaceAdjacency<3> faces = build_faces(tets);
+  std::vector<Eigen::Vector4d> quaternion(tet_count, Eigen::Vector4d::Zero());
+  std::vector<std::uint8_t> fixed_frame(tet_count, 0);
+  for (std::size_t f = 0; f < faces.faces.size(); ++f) {
+    if (faces.face_cells[f][1] != kInvalidIndex) continue;
+    const auto& v = faces.faces[f];
+    auto it = triangle_of.find(sorted_key(v[0], v[1], v[2]));
+    if (it == triangle_of.end())
+      throw InputError("volumetric_map: a boundary face of the tet mesh is not a triangle of the surface");
+    const Index cell = faces.face_cells[f][0];
+    quaternion[cell] += triangle_rotation[it->second].coeffs();
+    fixed_frame[cell] = 1;
+  }
+
+  // --- 2. interior frames: harmonic quaternions on the dual graph (C_S of §5.2.2).
+  std::vector<Index> unknown_of_tet(tet_count, kInvalidIndex);
+  std::size_t frame_unknowns = 0;
+  for (std::size_t t = 0; t < tet_count; ++t)
+    if (!fixed_frame[t]) unknown_of_tet[t] = static_cast<Index>(frame_unknowns++);
+  if (frame_unknowns > 0) {
+    std::vector<Eigen::Triplet<double>> entries;
+    entries.reserve(faces.faces.size() * 4);
+    Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(frame_unknowns), 4);
+    for (std::size_t f = 0; f < faces.faces.size(); ++f) {
+      const Index a = faces.face_cells[f][0], b = faces.face_cells[f][1];
+      if (b == kInvalidIndex) continue;
+      for (auto [p, q] : {std::pair{a, b}, std::pair{b, a}}) {
+        if (unknown_of_tet[p] == kInvalidIndex) continue;
+        const auto row = static_cast<Eigen::Index>(unknown_of_tet[p]);
+        entries.emplace_back(row, row, 1.0);
+        if (unknown_of_tet[q] != kInvalidIndex)
+          entries.emplace_back(row, static_cast<Eigen::Index>(unknown_of_tet[q]), -1.0);
+        else
+          rhs.row(row) += quaternion[q].normalized().transpose();
+      }
+    }
+    Eigen::SparseMatrix<double> laplacian(static_cast<Eigen::Index>(frame_unknowns),
+                                          static_cast<Eigen::Index>(frame_unknowns));
+    laplacian.setFromTriplets(entries.begin(), entries.end());
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver(laplacian);
+    if (solver.info() != Eigen::Success)
+      throw Error("volumetric_map: the frame smoothness system is singular (a tet component without boundary?)");
+    const Eigen::MatrixXd solution = solver.solve(rhs);
+    for (std::size_t t = 0; t < tet_count; ++t)
+      if (unknown_of_tet[t] != kInvalidIndex)
+        quaternion[t] = solution.row(static_cast<Eigen::Index>(unknown_of_tet[t])).transpose();
+  }
+  std::vector<Eigen::Matrix3d> rotation(tet_count);
+  for (std::size_t t = 0; t < tet_count; ++t) {
+    Eigen::Vector4d q = quaternion[t];
+    rotation[t] = q.norm() > 1e-12 ? Eigen::Quaterniond(q / q.norm()).toRotationMatrix() : Eigen::Matrix3d::Identity();
+  }
+  result.seconds_frames = seconds_since(start);
+
+  // --- 3. positions: the least squares (5.1) with the boundary pinned to the target.
+  start = Clock::now();
+  std::vector<Index> unknown_of_point(point_count, kInvalidIndex);
+  std::size_t unknowns = 0;
+  for (std::size_t i = boundary_count; i < point_count; ++i) unknown_of_point[i] = static_cast<Index>(unknowns++);
+  result.parameter.assign(point_count, Vec3::Zero());
+  for (std::size_t i = 0; i < boundary_count; ++i) result.parameter[i] = boundary_target.points[i];
+  if (unknowns > 0) {
+    std::vector<Eigen::Triplet<double>> entries;
+    entries.reserve(tet_count * 16);
+    Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(unknowns), 3);
+    for (std::size_t t = 0; t < tet_count; ++t) {
+      const auto& tet = tets.tets[t];
+      const std::array<Vec3, 4> p{tets.points[tet[0]], tets.points[tet[1]], tets.points[tet[2]], tets.points[tet[3]]};
+      Eigen::Matrix<double, 4, 3> gradient;
+      double volume = 0;
+      if (!barycentric_gradients(p, gradient, volume)) continue;
+      volume = std::abs(volume);
+      // Row i of K: vol grad_i . grad_j; right-hand side: vol grad_i . X^k (X^k = row k of R).
+      const Eigen::Matrix<double, 4, 3> divergence = volume * gradient * rotation[t].transpose();
+      for (int i = 0; i < 4; ++i) {
+        const Index row_point = unknown_of_point[tet[i]];
+        if (row_point == kInvalidIndex) continue;
+        const auto row = static_cast<Eigen::Index>(row_point);
+        rhs.row(row) += divergence.row(i);
+        for (int j = 0; j < 4; ++j) {
+          const double k = volume * gradient.row(i).dot(gradient.row(j));
+          if (unknown_of_point[tet[j]] != kInvalidIndex)
+            entries.emplace_back(row, static_cast<Eigen::Index>(unknown_of_point[tet[j]]), k);
+          else
+            rhs.row(row) -= k * result.parameter[tet[j]].transpose();
+        }
+      }
+    }
+    Eigen::SparseMatrix<double> stiffness(static_cast<Eigen::Index>(unknowns), static_cast<Eigen::Index>(unknowns));
+    stiffness.setFromTriplets(entries.begin(), entries.end());
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver(stiffness);
+    if (solver.info() != Eigen::Success) throw Error("volumetric_map: CHOLMOD could not factor the (5.1) system");
+    const Eigen::MatrixXd solution = solver.solve(rhs);
+    for (std::size_t i = boundary_count; i < point_count; ++i)
+      result.parameter[i] = solution.row(static_cast<Eigen::Index>(unknown_of_point[i])).transpose();
+  }
+  result.seconds_solve = seconds_since(start);
+
+  // --- 4. untangling of inverted tets (interior points only; the boundary is pinned).
+  start = Clock::now();
+  // beta_t, the least volume an untangled tet must have: 1% of its source volume scaled by
+  // the ratio of the two solids' volumes (the map may shrink a region a hundredfold).
+  std::vector<double> beta(tet_count);
+  double source_total = 0, target_total = 0;
+  for (std::size_t t = 0; t < tet_count; ++t) {
+    beta[t] = std::abs(tet_volume(tets.points, tets.tets[t]));
+    source_total += beta[t];
+    target_total += tet_volume(result.parameter, tets.tets[t]);
+  }
+  const double volume_ratio = source_total > 0 && target_total > 0 ? target_total / source_total : 1.0;
+  for (double& b : beta) b *= 0.01 * volume_ratio;
+  auto count_flipped = [&] {
+    std::size_t flipped = 0;
+    for (std::size_t t = 0; t < tet_count; ++t)
+      if (!(tet_volume(result.parameter, tets.tets[t]) > 0)) ++flipped;
+    return flipped;
+  };
+  result.flipped_before_untangling = count_flipped();
+  result.flipped = result.flipped_before_untangling;
+  if (result.flipped > 0 && options.untangle_sweeps > 0) {
+    const CompressedRows tets_of_point = build_vertex_elements(tets.tets, point_count);
+    auto untangle_energy = [&](Index point, const Vec3& x, Vec3* gradient) {
+      double energy = 0;
+      if (gradient) gradient->setZero();
+      for (Index t : tets_of_point.row(point)) {
+        std::array<Vec3, 4> p;
+        int local = 0;
+        for (int c = 0; c < 4; ++c) {
+          p[c] = tets.tets[t][c] == point ? x : result.parameter[tets.tets[t][c]];
+          if (tets.tets[t][c] == point) local = c;
+        }
+        const double volume = tet_signed_volume(p[0], p[1], p[2], p[3]);
+        if (volume >= beta[t]) continue;
+        const double gap = beta[t] - volume;  // (|V - b| - (V - b)) = 2 (b - V) when V < b
+        energy += 4 * gap * gap;
+        if (gradient) {
+          // dV/dx for the moving corner: the area vector of the opposite face / 3, signed so
+          // that moving towards the face's inside raises V.
+          const auto& face = kTetFaces[static_cast<std::size_t>(local)];
+          const Vec3 area_vector = (p[face[1]] - p[face[0]]).cross(p[face[2]] - p[face[0]]) / 6.0;
+          *gradient += 8 * gap * area_vector;
+        }
+      }
+      return energy;
+    };
+    std::vector<std::uint8_t> active(point_count, 0);
+    std::optional<Progress> progress;
+    if (options.progress) progress.emplace("untangling the map", static_cast<std::uint64_t>(options.untangle_sweeps));
+    for (int sweep = 0; sweep < options.untangle_sweeps && result.flipped > 0; ++sweep) {
+      std::fill(active.begin(), active.end(), 0);
+      for (std::size_t t = 0; t < tet_count; ++t)
+        if (!(tet_volume(result.parameter, tets.tets[t]) > beta[t]))
+          for (Index v : tets.tets[t]) active[v] = 1;
+      for (std::size_t v = boundary_count; v < point_count; ++v) {
+        if (!active[v]) continue;
+        const auto point = static_cast<Index>(v);
+        Vec3 gradient;
+        const double energy = untangle_energy(point, result.parameter[v], &gradient);
+        if (!(energy > 0) || !(gradient.squaredNorm() > 0)) continue;
+        // Backtracking line search along the steepest descent, starting from the step that
+        // would zero the energy if it were linear.
+        double step = energy / gradient.squaredNorm();
+        for (int attempt = 0; attempt < 30; ++attempt, step *= 0.5) {
+          const Vec3 candidate = result.parameter[v] - step * gradient;
+          if (untangle_energy(point, candidate, nullptr) < energy) {
+            result.parameter[v] = candidate;
+            break;
+          }
+        }
+      }
+      result.flipped = count_flipped();
+      if (progress) progress->advance();
+    }
+  }
+  result.seconds_untangle = seconds_since(start);
+
+  if (result.flipped == 0) {
+    TetMesh image{result.parameter, tets.tets};
+    result.volume_distortion = volume_distortion(tets, image);
+  }
+  return result;
+}
+
+}  // namespace structmesh
