@@ -35,6 +35,7 @@ Action add_guard_command(CLI::App& command, const GlobalOptions& global);
 Action add_tetmesh_command(CLI::App& command, const GlobalOptions& global);
 Action add_star_command(CLI::App& command, const GlobalOptions& global);
 Action add_polycube_command(CLI::App& command, const GlobalOptions& global);
+Action add_hex_command(CLI::App& command, const GlobalOptions& global);
 
 /// A region from a file (.geojson, .poly) or the built-in "key" / "pipe" with about
 /// `segments` boundary segments (0: the default); `polygon_choice` ("", an index or

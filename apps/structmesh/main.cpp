@@ -62,6 +62,8 @@ int main(int argc, char** argv) {
   add("star", "Split a solid into star-shaped parts grown from its guards (§2.3)", cli::add_star_command);
   add("polycube", "Build the polycube domain of a closed surface (ch. 4): deform, voxelize, optimise",
       cli::add_polycube_command);
+  add("hex", "All-hex mesh of a closed surface by polycube mapping (ch. 4-5): polycube, volumetric map, grid",
+      cli::add_hex_command);
 
   try {
     app.parse(argc, argv);

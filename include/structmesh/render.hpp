@@ -91,7 +91,11 @@ BoundingBox2 parse_view(const std::string& text);
 struct SurfacePictureOptions {
   int width_px = 1200;
   double azimuth_deg = 35, elevation_deg = 25;
+  /// When not empty: one colour per face, used instead of the labels' colours.
+  std::vector<std::array<std::uint8_t, 3>> face_colors;
 };
+/// The viridis colour map at t in [0, 1] (clamped), as quad_mesh_image() uses it.
+std::array<std::uint8_t, 3> viridis_color(double t);
 /// A colour per non-negative label, neighbouring labels clearly different; grey for < 0.
 std::array<std::uint8_t, 3> label_color(std::int32_t label);
 Image surface_image(const TriMesh& surface, std::span<const std::int32_t> face_labels, std::span<const Vec3> markers,

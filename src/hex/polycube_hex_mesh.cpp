@@ -20,6 +20,7 @@
 #include "structmesh/progress.hpp"
 #include "structmesh/quality.hpp"
 #include "structmesh/tetmesh.hpp"
+#include "surface_rays.hpp"
 #include "tet_locator.hpp"
 
 #include <tbb/parallel_for.h>
@@ -129,27 +130,49 @@ HexResult polycube_hex_mesh(const TriMesh& surface, const HexOptions& options) {
            ")");
   timer.stop("hex grid");
 
-  // phi^-1: boundary points through their closest point on Q, interior points through M's
-  // parameter image; both by barycentric interpolation onto the aligned input.
-  std::vector<std::uint8_t> on_boundary(grid.points.size(), 0);
-  for (const auto& q : hex_boundary_quads(grid))
-    for (Index v : q) on_boundary[v] = 1;
+  // phi^-1: boundary points go to Q along their polycube normal (the sum of the axes of
+  // their boundary quads, so a corner of P goes to the corner of Q and an edge point to the
+  // edge), as §5.2.1 projects along normals, falling back to the closest point when that
+  // line misses Q nearby; interior points are located in M's parameter image. Both are
+  // interpolated barycentrically onto the aligned input.
+  std::vector<std::uint8_t> axes_of(grid.points.size(), 0);  // bit per axis label of the point's boundary quads
+  for (const auto& q : hex_boundary_quads(grid)) {
+    const Vec3 normal = (grid.points[q[2]] - grid.points[q[0]]).cross(grid.points[q[3]] - grid.points[q[1]]);
+    const int label = nearest_axis_label(normal);
+    for (Index v : q) axes_of[v] |= static_cast<std::uint8_t>(1u << label);
+  }
   const SurfaceProjection onto_q(polycube.pseudo.surface);
+  const hex_detail::SurfaceRays rays(polycube.pseudo.surface);
   const hex_detail::TetLocator locator(result.parameter, result.tets.tets);
+  const double voxel = polycube.voxels.size;
   std::vector<Vec3> mapped(grid.points.size());
   std::vector<std::uint8_t> outside(grid.points.size(), 0);
-  auto through_surface = [&](const Vec3& p) {
+  auto on_input = [&](Index triangle, const Vec3& barycentric) {
+    const auto& t = aligned.triangles[triangle];
+    const Vec3 b = barycentric.cwiseMax(0.0) / barycentric.cwiseMax(0.0).sum();
+    return Vec3(b[0] * aligned.points[t[0]] + b[1] * aligned.points[t[1]] + b[2] * aligned.points[t[2]]);
+  };
+  auto through_surface = [&](const Vec3& p, std::uint8_t axes) {
     Index triangle = 0;
     Vec3 barycentric;
-    onto_q.closest_point(p, &triangle, &barycentric);
-    const auto& t = aligned.triangles[triangle];
-    return Vec3(barycentric[0] * aligned.points[t[0]] + barycentric[1] * aligned.points[t[1]] +
-                barycentric[2] * aligned.points[t[2]]);
+    const Vec3 closest = onto_q.closest_point(p, &triangle, &barycentric);
+    Vec3 normal = Vec3::Zero();
+    for (int label = 0; label < kAxisLabels; ++label)
+      if (axes & (1u << label)) normal += axis_of_label(label);
+    if (normal.squaredNorm() > 0) {
+      const double closest_distance = (closest - p).norm();
+      Vec3 hit, hit_barycentric;
+      Index hit_triangle = 0;
+      if (rays.nearest_hit(p, normal, 4 * voxel + 2 * closest_distance, hit, hit_triangle, hit_barycentric) &&
+          (hit - p).norm() <= 2 * closest_distance + voxel)
+        return on_input(hit_triangle, hit_barycentric);
+    }
+    return on_input(triangle, barycentric);
   };
   tbb::parallel_for(std::size_t{0}, grid.points.size(), [&](std::size_t v) {
     const Vec3& p = grid.points[v];
-    if (on_boundary[v]) {
-      mapped[v] = through_surface(p);
+    if (axes_of[v] != 0) {
+      mapped[v] = through_surface(p, axes_of[v]);
       return;
     }
     const hex_detail::TetLocation where = locator.locate(p);
@@ -157,7 +180,7 @@ HexResult polycube_hex_mesh(const TriMesh& surface, const HexOptions& options) {
       // Outside Q (P pokes out of it here): the nearest point of Q stands in; the smoothing
       // below moves it back inside.
       outside[v] = 1;
-      mapped[v] = through_surface(p);
+      mapped[v] = through_surface(p, 0);
       return;
     }
     const auto& tet = result.tets.tets[where.tet];

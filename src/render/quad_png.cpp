@@ -523,4 +523,6 @@ BoundingBox2 parse_view(const std::string& text) {
   return box;
 }
 
+std::array<std::uint8_t, 3> viridis_color(double t) { return viridis(t); }
+
 }  // namespace structmesh

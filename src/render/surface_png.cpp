@@ -50,6 +50,9 @@ Image surface_image(const TriMesh& surface, std::span<const std::int32_t> face_l
   if (face_labels.size() != surface.triangles.size())
     throw Error("surface_image: one label per triangle expected (" + std::to_string(face_labels.size()) + " for " +
                 std::to_string(surface.triangles.size()) + ")");
+  if (!options.face_colors.empty() && options.face_colors.size() != surface.triangles.size())
+    throw Error("surface_image: one colour per triangle expected (" + std::to_string(options.face_colors.size()) +
+                " for " + std::to_string(surface.triangles.size()) + ")");
   if (options.width_px < 16 || options.width_px > 20000) throw InputError("surface_image: width out of range");
   // Camera: looking along -view from azimuth/elevation; right and up span the screen.
   const double azimuth = options.azimuth_deg * M_PI / 180, elevation = options.elevation_deg * M_PI / 180;
@@ -71,7 +74,7 @@ Image surface_image(const TriMesh& surface, std::span<const std::int32_t> face_l
     if (!(length > 0)) continue;
     // Light from the viewer, both sides lit (a back face seen through a hole is not black).
     const double shade = 0.35 + 0.65 * std::abs(normal.dot(view)) / length;
-    const auto base = label_color(face_labels[f]);
+    const auto base = options.face_colors.empty() ? label_color(face_labels[f]) : options.face_colors[f];
     const std::array<std::uint8_t, 3> color{static_cast<std::uint8_t>(base[0] * shade),
                                             static_cast<std::uint8_t>(base[1] * shade),
                                             static_cast<std::uint8_t>(base[2] * shade)};

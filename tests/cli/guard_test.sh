@@ -1,21 +1,6 @@
 #!/usr/bin/env bash
 # End-to-end checks of structmesh guard. Usage: guard_test.sh STRUCTMESH DATA_DIR WORK_DIR
-set -u
-sm=$1
-data=$2
-work=$3
-rm -rf "$work"
-mkdir -p "$work"
-failed=0
-fail() {
-  echo "FAIL: $*"
-  failed=$((failed + 1))
-}
-torus="$data/surfaces/torus.obj"
-if [[ ! -f "$torus" ]]; then
-  echo "no $torus: STRUCTMESH_DATA must point at the shared data"
-  exit 1
-fi
+source "$(dirname "$0")/common.sh" "$@"
 
 # A torus surface, and the same torus as a tet mesh (its boundary is the surface).
 "$sm" guard "$torus" -o "$work/guards.json" -o "$work/faces.vtu" --json "$work/report.json" --quiet ||
@@ -84,8 +69,4 @@ END
 status=$?
 [[ $status -eq 2 ]] || fail "missing file: exit $status, expected 2"
 
-if ((failed > 0)); then
-  echo "$failed check(s) failed"
-  exit 1
-fi
-echo "guard CLI checks passed"
+finish guard

@@ -1,21 +1,6 @@
 #!/usr/bin/env bash
 # End-to-end checks of structmesh polycube. Usage: polycube_test.sh STRUCTMESH DATA_DIR WORK_DIR
-set -u
-sm=$1
-data=$2
-work=$3
-rm -rf "$work"
-mkdir -p "$work"
-failed=0
-fail() {
-  echo "FAIL: $*"
-  failed=$((failed + 1))
-}
-torus="$data/surfaces/torus.obj"
-if [[ ! -f "$torus" ]]; then
-  echo "no $torus: STRUCTMESH_DATA must point at the shared data"
-  exit 1
-fi
+source "$(dirname "$0")/common.sh" "$@"
 
 # The torus: a polycube with one handle, written as OBJ quads, VTU with axis labels, a picture.
 "$sm" polycube "$torus" -o "$work/p.obj" -o "$work/p.vtu" -o "$work/p.png" --deformed "$work/q.obj" \
@@ -52,8 +37,4 @@ grep -q "open.off" "$work/open.err" || fail "open surface: file not named in: $(
 status=$?
 [[ $status -eq 2 ]] || fail "-o p.stl: exit $status, expected 2"
 
-if ((failed > 0)); then
-  echo "$failed check(s) failed"
-  exit 1
-fi
-echo "polycube CLI checks passed"
+finish polycube

@@ -1,21 +1,6 @@
 #!/usr/bin/env bash
 # End-to-end checks of structmesh star. Usage: star_test.sh STRUCTMESH DATA_DIR WORK_DIR
-set -u
-sm=$1
-data=$2
-work=$3
-rm -rf "$work"
-mkdir -p "$work"
-failed=0
-fail() {
-  echo "FAIL: $*"
-  failed=$((failed + 1))
-}
-torus="$data/surfaces/torus.obj"
-if [[ ! -f "$torus" ]]; then
-  echo "no $torus: STRUCTMESH_DATA must point at the shared data"
-  exit 1
-fi
+source "$(dirname "$0")/common.sh" "$@"
 
 # Guards from `guard`, then a strict and a relaxed decomposition of the same solid.
 "$sm" tetmesh "$torus" -o "$work/torus.mesh" --quiet || fail "tetmesh exited $?"
@@ -68,8 +53,4 @@ status=$?
 status=$?
 [[ $status -eq 2 ]] || fail "-o parts.obj: exit $status, expected 2"
 
-if ((failed > 0)); then
-  echo "$failed check(s) failed"
-  exit 1
-fi
-echo "star CLI checks passed"
+finish star
