@@ -1,0 +1,107 @@
+// SurfaceProjection: closest points on the input surface, which keep the boundary of the
+// smoothed hex mesh on the input (§5.3: the geometric deviation D_g is measured against it).
+// A CGAL AABB tree with its distance-query KD tree built up front, so that queries only read
+// the tree and may run from TBB tasks at the same time.
+#include "structmesh/error.hpp"
+#include "structmesh/hex.hpp"
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include <algorithm>
+#include <string>
+
+namespace structmesh {
+
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Triangle = Kernel::Triangle_3;
+using Primitive = CGAL::AABB_triangle_primitive<Kernel, std::vector<Triangle>::const_iterator>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+
+Kernel::Point_3 to_cgal(const Vec3& p) { return {p.x(), p.y(), p.z()}; }
+Vec3 to_vec(const Kernel::Point_3& p) { return {p.x(), p.y(), p.z()}; }
+
+// Barycentric coordinates of q, a point of triangle abc (Ericson, Real-Time Collision
+// Detection §3.4), clamped to [0, 1] against rounding. A degenerate triangle is a segment
+// (its longest edge) or a point.
+Vec3 barycentric(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 v0 = b - a, v1 = c - a, v2 = q - a;
+  const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1), d20 = v2.dot(v0), d21 = v2.dot(v1);
+  const double denominator = d00 * d11 - d01 * d01;
+  Vec3 weights;
+  if (denominator > 1e-12 * d00 * d11) {
+    const double v = (d11 * d20 - d01 * d21) / denominator, w = (d00 * d21 - d01 * d20) / denominator;
+    weights = {1 - v - w, v, w};
+  } else {
+    const std::array<Vec3, 3> corner{a, b, c};
+    int longest = 0;
+    double longest_length = -1;
+    for (int i = 0; i < 3; ++i)
+      if (const double l = (corner[(i + 1) % 3] - corner[i]).squaredNorm(); l > longest_length)
+        longest = i, longest_length = l;
+    weights.setZero();
+    const int from = longest, to = (longest + 1) % 3;
+    const double t = longest_length > 0
+                         ? std::clamp((q - corner[from]).dot(corner[to] - corner[from]) / longest_length, 0.0, 1.0)
+                         : 0.0;
+    weights[from] = 1 - t;
+    weights[to] = t;
+  }
+  weights = weights.cwiseMax(0.0).cwiseMin(1.0);
+  return weights / weights.sum();
+}
+
+}  // namespace
+
+struct SurfaceProjection::Impl {
+  std::vector<Triangle> triangles;  // the tree's primitives point into this vector
+  std::vector<std::array<Vec3, 3>> corners;
+  Tree tree;
+};
+
+SurfaceProjection::SurfaceProjection(const TriMesh& surface) : impl_(std::make_unique<Impl>()) {
+  if (surface.triangles.empty()) throw InputError("SurfaceProjection: the surface has no triangles");
+  impl_->triangles.reserve(surface.triangles.size());
+  impl_->corners.reserve(surface.triangles.size());
+  for (std::size_t t = 0; t < surface.triangles.size(); ++t) {
+    std::array<Vec3, 3> corner;
+    for (int i = 0; i < 3; ++i) {
+      const Index v = surface.triangles[t][i];
+      if (v >= surface.points.size())
+        throw InputError("SurfaceProjection: triangle " + std::to_string(t) + " refers to point " + std::to_string(v) +
+                         " of " + std::to_string(surface.points.size()));
+      corner[i] = surface.points[v];
+    }
+    impl_->corners.push_back(corner);
+    impl_->triangles.emplace_back(to_cgal(corner[0]), to_cgal(corner[1]), to_cgal(corner[2]));
+  }
+  impl_->tree.insert(impl_->triangles.cbegin(), impl_->triangles.cend());
+  impl_->tree.build();
+  impl_->tree.accelerate_distance_queries();
+}
+
+SurfaceProjection::~SurfaceProjection() = default;
+SurfaceProjection::SurfaceProjection(SurfaceProjection&&) noexcept = default;
+SurfaceProjection& SurfaceProjection::operator=(SurfaceProjection&&) noexcept = default;
+
+Vec3 SurfaceProjection::closest_point(const Vec3& p, Index* triangle, Vec3* barycentric_coordinates) const {
+  const auto [point, primitive] = impl_->tree.closest_point_and_primitive(to_cgal(p));
+  const Vec3 closest = to_vec(point);
+  const auto t = static_cast<std::size_t>(primitive - impl_->triangles.cbegin());
+  if (triangle) *triangle = static_cast<Index>(t);
+  if (barycentric_coordinates) {
+    const auto& c = impl_->corners[t];
+    *barycentric_coordinates = barycentric(closest, c[0], c[1], c[2]);
+  }
+  return closest;
+}
+
+double SurfaceProjection::squared_distance(const Vec3& p) const {
+  return CGAL::to_double(impl_->tree.squared_distance(to_cgal(p)));
+}
+
+}  // namespace structmesh

@@ -1,0 +1,87 @@
+// SurfaceProjection on the unit cube's surface: closest points, triangles and barycentric
+// coordinates known by hand, and parallel queries equal to serial ones.
+#include "structmesh/error.hpp"
+#include "structmesh/hex.hpp"
+
+#include <gtest/gtest.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <utility>
+
+namespace structmesh {
+namespace {
+
+// The unit cube, two outward triangles per face; triangle 2 is (4, 5, 6) on the top face.
+TriMesh unit_cube() {
+  TriMesh cube;
+  for (int k = 0; k < 2; ++k) {
+    cube.points.emplace_back(0, 0, k);
+    cube.points.emplace_back(1, 0, k);
+    cube.points.emplace_back(1, 1, k);
+    cube.points.emplace_back(0, 1, k);
+  }
+  cube.triangles = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                    {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
+  return cube;
+}
+
+TEST(SurfaceProjection, ClosestPointsOfTheUnitCube) {
+  const SurfaceProjection projection(unit_cube());
+  Index triangle = kInvalidIndex;
+  Vec3 weights;
+  // Above the top face, over the half y < x: triangle (4, 5, 6) with
+  // (0.75, 0.25) = 0.25 (0, 0) + 0.5 (1, 0) + 0.25 (1, 1).
+  const Vec3 top = projection.closest_point(Vec3(0.75, 0.25, 5), &triangle, &weights);
+  EXPECT_NEAR((top - Vec3(0.75, 0.25, 1)).norm(), 0.0, 1e-12);
+  EXPECT_EQ(triangle, 2u);
+  EXPECT_NEAR((weights - Vec3(0.25, 0.5, 0.25)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(projection.squared_distance(Vec3(0.75, 0.25, 5)), 16.0, 1e-12);
+
+  // Inside, nearest to the bottom face.
+  EXPECT_NEAR((projection.closest_point(Vec3(0.5, 0.4, 0.1)) - Vec3(0.5, 0.4, 0)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(projection.squared_distance(Vec3(0.5, 0.4, 0.1)), 0.01, 1e-12);
+
+  // Beyond a corner: the corner itself, a vertex of the triangle found.
+  const Vec3 corner = projection.closest_point(Vec3(2, 3, 4), &triangle, &weights);
+  EXPECT_NEAR((corner - Vec3(1, 1, 1)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(projection.squared_distance(Vec3(2, 3, 4)), 1 + 4 + 9, 1e-12);
+  EXPECT_NEAR(weights.maxCoeff(), 1.0, 1e-12);
+  const TriMesh cube = unit_cube();
+  Vec3 rebuilt = Vec3::Zero();
+  for (int i = 0; i < 3; ++i) rebuilt += weights[i] * cube.points[cube.triangles[triangle][i]];
+  EXPECT_NEAR((rebuilt - corner).norm(), 0.0, 1e-12);
+}
+
+TEST(SurfaceProjection, MovedProjectionAnswersTheSame) {
+  SurfaceProjection first(unit_cube());
+  SurfaceProjection second = std::move(first);
+  EXPECT_NEAR((second.closest_point(Vec3(-1, 0.5, 0.5)) - Vec3(0, 0.5, 0.5)).norm(), 0.0, 1e-12);
+}
+
+TEST(SurfaceProjection, ParallelQueriesEqualSerialOnes) {
+  const SurfaceProjection projection(unit_cube());
+  std::vector<Vec3> queries;
+  for (int i = 0; i < 2000; ++i) queries.emplace_back(std::sin(i * 0.37) * 2, std::cos(i * 0.11) * 2, (i % 17) * 0.13);
+  std::vector<Vec3> serial(queries.size()), parallel(queries.size());
+  std::vector<Vec3> serial_weights(queries.size()), parallel_weights(queries.size());
+  std::vector<Index> serial_triangle(queries.size()), parallel_triangle(queries.size());
+  for (std::size_t i = 0; i < queries.size(); ++i)
+    serial[i] = projection.closest_point(queries[i], &serial_triangle[i], &serial_weights[i]);
+  tbb::parallel_for(std::size_t{0}, queries.size(), [&](std::size_t i) {
+    parallel[i] = projection.closest_point(queries[i], &parallel_triangle[i], &parallel_weights[i]);
+  });
+  EXPECT_EQ(serial, parallel);
+  EXPECT_EQ(serial_triangle, parallel_triangle);
+  EXPECT_EQ(serial_weights, parallel_weights);
+}
+
+TEST(SurfaceProjection, RejectsAnEmptySurface) {
+  EXPECT_THROW(SurfaceProjection(TriMesh{}), InputError);
+  TriMesh broken = unit_cube();
+  broken.triangles[3][1] = 8;
+  EXPECT_THROW(SurfaceProjection{broken}, InputError);
+}
+
+}  // namespace
+}  // namespace structmesh
