@@ -21,10 +21,14 @@ nlohmann::json statistics_json(const Statistics& s) {
 }
 
 /// The hex mesh's boundary as triangles, each coloured by its hex's scaled Jacobian.
-std::string hex_png(const HexMesh& mesh, const std::vector<double>& scaled_jacobian) {
+std::string hex_png(const HexMesh& mesh, const std::vector<double>& scaled_jacobian, const std::vector<double>& view) {
   const FaceAdjacency<4> faces = build_faces(mesh);
   TriMesh surface{mesh.points, {}};
   SurfacePictureOptions picture;
+  if (view.size() == 2) {
+    picture.azimuth_deg = view[0];
+    picture.elevation_deg = view[1];
+  }
   for (std::size_t f = 0; f < faces.faces.size(); ++f) {
     if (faces.face_cells[f][1] != kInvalidIndex) continue;
     const auto& q = faces.faces[f];
@@ -45,6 +49,7 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
   struct Settings {
     std::string input, polycube_output, parameterization_output;
     std::vector<std::string> outputs;
+    std::vector<double> view;
     HexOptions options;
     bool no_padding = false, no_align = false;
   };
@@ -85,9 +90,16 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   command
-      .add_option("--smoothing", settings->options.smoothing.iterations, "Post-smoothing sweeps (0: none)")
+      .add_option("--smoothing", settings->options.smoothing.iterations,
+                  "Post-smoothing sweeps (0: no untangling or smoothing, the raw map)")
       ->capture_default_str()
       ->check(CLI::Range(0, 10000));
+  command.add_option("--view", settings->view, "Viewing direction of the .png: azimuth and elevation in degrees")
+      ->expected(2)
+      ->delimiter(',');
+  command.add_flag("--features", settings->options.features,
+                   "Keep sharp edges and corners of the input (CAD models): boundary points where the surface bends "
+                   "more than 30 degrees stay put in the smoothing");
   command.add_flag("--no-padding", settings->no_padding, "No pillow layer under the boundary");
   command.add_flag("--no-align", settings->no_align, "Skip the principal-axes pre-alignment");
 
@@ -122,7 +134,7 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
     const HexQuality& q = result.quality;
     for (const std::string& output : settings->outputs) {
       if (std::filesystem::path(output).extension() == ".png") {
-        write_file_atomic(output, hex_png(result.mesh, q.scaled_jacobian));
+        write_file_atomic(output, hex_png(result.mesh, q.scaled_jacobian, settings->view));
         continue;
       }
       WriteOptions write;
@@ -147,46 +159,45 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
     }
 
     say(global, "hex: " + std::to_string(result.mesh.hexes.size()) + " hexes, scaled Jacobian min " +
-                    std::to_string(q.scaled_jacobian_stats.min) + " avg " + std::to_string(q.scaled_jacobian_stats.mean) +
-                    ", " + std::to_string(q.inverted) + " inverted, " + std::to_string(q.singular_vertices) +
-                    " singular vertices");
+                    std::to_string(q.scaled_jacobian_stats.min) + " avg " +
+                    std::to_string(q.scaled_jacobian_stats.mean) + ", " + std::to_string(q.inverted) + " inverted, " +
+                    std::to_string(q.singular_vertices) + " singular vertices");
     nlohmann::json stages = nlohmann::json::object();
     for (const auto& [name, seconds] : result.stage_seconds) stages[name] = seconds;
-    write_json_report(
-        global,
-        {{"input", settings->input},
-         {"vertices", surface.points.size()},
-         {"hexes", result.mesh.hexes.size()},
-         {"points", result.mesh.points.size()},
-         {"hex_size", result.hex_size},
-         {"padding_hexes", result.padding_hexes},
-         {"scaled_jacobian", statistics_json(q.scaled_jacobian_stats)},
-         {"corner_scaled_jacobian", statistics_json(q.corner_scaled_jacobian_stats)},
-         {"inverted", q.inverted},
-         {"invalid", q.invalid},
-         {"dihedral_degrees", statistics_json(q.dihedral_degrees)},
-         {"volume_distortion", result.map.volume_distortion},
-         {"geometric_deviation", result.geometric_deviation},
-         {"singular_vertices", q.singular_vertices},
-         {"singular_interior", q.singular_interior},
-         {"singular_boundary", q.singular_boundary},
-         {"polycube",
-          {{"voxels", result.polycube.voxels.count()},
-           {"voxel_size", result.polycube.voxels.size},
-           {"corners", result.polycube.optimization.after.corners},
-           {"handles", result.polycube.final.handles}}},
-         {"map",
-          {{"tets", result.tets.tets.size()},
-           {"flipped_before_untangling", result.map.flipped_before_untangling},
-           {"flipped", result.map.flipped},
-           {"grid_points_outside", result.interior_points_outside}}},
-         {"smoothing",
-          {{"sweeps", result.smoothing.sweeps},
-           {"inverted_before", result.smoothing.inverted_before},
-           {"min_scaled_jacobian_before", result.smoothing.min_scaled_jacobian_before},
-           {"mean_scaled_jacobian_before", result.smoothing.mean_scaled_jacobian_before}}},
-         {"stage_seconds", stages},
-         {"peak_rss_mb", peak_rss_mb()}});
+    write_json_report(global, {{"input", settings->input},
+                               {"vertices", surface.points.size()},
+                               {"hexes", result.mesh.hexes.size()},
+                               {"points", result.mesh.points.size()},
+                               {"hex_size", result.hex_size},
+                               {"padding_hexes", result.padding_hexes},
+                               {"scaled_jacobian", statistics_json(q.scaled_jacobian_stats)},
+                               {"corner_scaled_jacobian", statistics_json(q.corner_scaled_jacobian_stats)},
+                               {"inverted", q.inverted},
+                               {"invalid", q.invalid},
+                               {"dihedral_degrees", statistics_json(q.dihedral_degrees)},
+                               {"volume_distortion", result.map.volume_distortion},
+                               {"geometric_deviation", result.geometric_deviation},
+                               {"singular_vertices", q.singular_vertices},
+                               {"singular_interior", q.singular_interior},
+                               {"singular_boundary", q.singular_boundary},
+                               {"polycube",
+                                {{"voxels", result.polycube.voxels.count()},
+                                 {"voxel_size", result.polycube.voxels.size},
+                                 {"corners", result.polycube.optimization.after.corners},
+                                 {"handles", result.polycube.final.handles}}},
+                               {"map",
+                                {{"tets", result.tets.tets.size()},
+                                 {"flipped_before_untangling", result.map.flipped_before_untangling},
+                                 {"flipped", result.map.flipped},
+                                 {"grid_points_outside", result.interior_points_outside}}},
+                               {"smoothing",
+                                {{"sweeps", result.smoothing.sweeps},
+                                 {"feature_points", result.smoothing.feature_points},
+                                 {"inverted_before", result.smoothing.inverted_before},
+                                 {"min_scaled_jacobian_before", result.smoothing.min_scaled_jacobian_before},
+                                 {"mean_scaled_jacobian_before", result.smoothing.mean_scaled_jacobian_before}}},
+                               {"stage_seconds", stages},
+                               {"peak_rss_mb", peak_rss_mb()}});
     return q.inverted == 0 && q.invalid == 0 ? 0 : 1;
   };
 }

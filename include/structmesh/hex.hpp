@@ -60,8 +60,11 @@ class SurfaceProjection {
 };
 
 struct HexSmoothingOptions {
-  int iterations = 30;            ///< sweeps over all points
-  bool move_boundary = true;      ///< boundary points slide on the target surface
+  int iterations = 30;        ///< sweeps over all points
+  bool move_boundary = true;  ///< boundary points slide on the target surface
+  /// Boundary points where two of their boundary quads meet at more than this angle stay
+  /// put (sharp edges and corners of the input, §4.5.3); 0: every boundary point slides.
+  double feature_angle_degrees = 0;
   double min_improvement = 1e-4;  ///< stop when the mean scaled Jacobian gains less per sweep
   bool progress = false;
 };
@@ -71,6 +74,7 @@ struct HexSmoothingResult {
   double min_scaled_jacobian_before = 0, min_scaled_jacobian_after = 0;
   double mean_scaled_jacobian_before = 0, mean_scaled_jacobian_after = 0;
   int sweeps = 0;
+  std::size_t feature_points = 0;  ///< boundary points held on a sharp feature
 };
 
 /// Untangling and smoothing of a hex mesh in place. Inverted hexes are untangled first
@@ -85,6 +89,14 @@ HexSmoothingResult smooth_hex_mesh(HexMesh& mesh, const std::function<Vec3(const
 // ---------------------------------------------------------------------------
 // The volumetric polycube map (§5.2) and the whole pipeline
 
+/// The preprocessing of §5.2.2: in every tet whose four points are boundary points (index <
+/// boundary_points), its longest edge that is not a surface edge (for a tet with two
+/// boundary faces, the edge between them) is split at its midpoint, in every tet around
+/// that edge, so no tet is fixed entirely by the boundary constraints. The mesh stays
+/// conforming and positively oriented; new points are appended. Returns the number of
+/// edges split.
+std::size_t split_boundary_tets(TetMesh& tets, std::size_t boundary_points);
+
 struct VolumetricMapOptions {
   int frame_smoothing_iterations = 0;  ///< 0: a direct sparse solve of the frames' smoothness
   int untangle_sweeps = 100;           ///< at most this many sweeps of local untangling
@@ -94,8 +106,9 @@ struct VolumetricMapOptions {
 struct VolumetricMap {
   std::vector<Vec3> parameter;  ///< per tet-mesh point: its position in the parameter domain
   std::size_t flipped_before_untangling = 0;
-  std::size_t flipped = 0;       ///< tets with non-positive parameter volume after untangling
-  double volume_distortion = 0;  ///< D_v of §5.3 (1 for a volume-preserving map)
+  std::size_t flipped = 0;                   ///< tets with non-positive parameter volume after untangling
+  std::size_t released_boundary_points = 0;  ///< boundary points the untangling had to move off Q
+  double volume_distortion = 0;              ///< D_v of §5.3 (1 for a volume-preserving map)
   double seconds_frames = 0, seconds_solve = 0, seconds_untangle = 0;
 };
 
@@ -103,7 +116,9 @@ struct VolumetricMap {
 /// their boundary face from `boundary_source` to `boundary_target`, interior frames minimise
 /// the smoothness energy C_S over the dual graph), then the positions minimising (5.1),
 /// sum over tets of vol(t) |grad u^k - X^k|^2, with every boundary point fixed at its target
-/// (sparse Cholesky: CHOLMOD), then local untangling of any flipped tet. `tets` has the
+/// (sparse Cholesky: CHOLMOD), then local untangling of any flipped tet (damped
+/// Gauss-Newton on Knupp's untangling function per interior point; boundary points of tets
+/// that stay flipped are released as a last resort). `tets` has the
 /// surface points first (tetrahedralize()'s layout): point i < boundary_target.size() is
 /// boundary point i. InputError when the sizes do not match.
 VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source, const TriMesh& boundary_target,
@@ -114,6 +129,7 @@ struct HexOptions {
   std::size_t target_hexes = 0;  ///< about this many hexes (0: use `size`)
   double size = 0;               ///< hex edge length in the input's units (0 with no target: 1 per voxel)
   bool padding = true;           ///< one pillow layer under the boundary
+  bool features = false;         ///< keep sharp edges and corners (--features; 30 degrees)
   double padding_depth = 0.3;    ///< the pillow layer's depth, share of the mean boundary edge
   double tet_size = 0;           ///< tet edge length of the map's mesh (0: the surface's mean edge)
   HexSmoothingOptions smoothing;
@@ -124,6 +140,7 @@ struct HexResult {
   HexMesh mesh;                 ///< in the input's frame
   PolycubeResult polycube;      ///< the domain (chapter 4)
   TetMesh tets;                 ///< the input solid's tet mesh
+  std::size_t split_edges = 0;  ///< edges split by split_boundary_tets()
   std::vector<Vec3> parameter;  ///< its points in the parameter domain
   VolumetricMap map;            ///< statistics of the map
   double hex_size = 0;          ///< the grid's target edge length in the parameter domain

@@ -216,13 +216,20 @@ std::size_t homotopic_close(VoxelGrid& grid, const VoxelBox& box, int layers);
 
 struct PolycubeEnergy {
   std::size_t corners = 0;  ///< E_c
-  double deviation = 0;     ///< E_g: sum of the distances at the boundary grid vertices
+  double deviation = 0;     ///< E_g (see polycube_energy)
   double total = 0;         ///< E_c + alpha * E_g
 };
-/// `vertex_distance`: per grid vertex (VoxelGrid::vertex_index), its distance to the
-/// pseudo-polycube Q in whatever unit E_g is to have (InputError if the size is not
-/// vertex_count() or a value is not finite).
-PolycubeEnergy polycube_energy(const VoxelGrid& grid, std::span<const double> vertex_distance, double alpha);
+/// E_g has two terms: the distances to the pseudo-polycube Q at the boundary grid vertices
+/// (how far P's surface is from Q's), and, when `reference` (Q's voxelization) is given,
+/// the distance to Q of every voxel whose state differs from the reference (the volume P
+/// gained or lost, weighted by depth). The distance to the nearest surface alone does not
+/// see a thick region eroded from one side (its boundary stays near the other side), and
+/// a window optimisation on it alone ate half of the genus-3 plate's thickness.
+/// `vertex_distance`: per grid vertex (VoxelGrid::vertex_index), its distance to Q in
+/// whatever unit E_g is to have (InputError if the size is not vertex_count() or a value
+/// is not finite, or if the reference's dimensions differ).
+PolycubeEnergy polycube_energy(const VoxelGrid& grid, std::span<const double> vertex_distance, double alpha,
+                               const VoxelGrid* reference = nullptr);
 
 struct PolycubeOptimizationOptions {
   double alpha = 20;     ///< the weight of E_g in (4.1)

@@ -24,6 +24,7 @@
 #include "tet_locator.hpp"
 
 #include <tbb/parallel_for.h>
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <chrono>
@@ -107,6 +108,7 @@ HexResult polycube_hex_mesh(const TriMesh& surface, const HexOptions& options) {
   tet_options.check_input = false;  // build_polycube() has checked the surface
   TetmeshResult tets = tetrahedralize(aligned, tet_options);
   result.tets = std::move(tets.mesh);
+  result.split_edges = split_boundary_tets(result.tets, aligned.points.size());
   timer.stop("tet mesh");
 
   // §5.2.2: the volumetric map onto the pseudo-polycube's solid.
@@ -215,8 +217,10 @@ HexResult polycube_hex_mesh(const TriMesh& surface, const HexOptions& options) {
   const SurfaceProjection onto_input(surface);
   HexSmoothingOptions smoothing = options.smoothing;
   smoothing.progress = options.progress || smoothing.progress;
-  result.smoothing = smooth_hex_mesh(
-      grid, [&](const Vec3& p) { return onto_input.closest_point(p); }, smoothing);
+  if (options.features && smoothing.feature_angle_degrees == 0) smoothing.feature_angle_degrees = 30;
+  if (smoothing.iterations > 0)  // 0: the raw map, to inspect it
+    result.smoothing = smooth_hex_mesh(
+        grid, [&](const Vec3& p) { return onto_input.closest_point(p); }, smoothing);
   timer.stop("smoothing");
 
   result.mesh = std::move(grid);

@@ -21,6 +21,7 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <optional>
 #include <string>
 
@@ -151,7 +152,8 @@ CompressedRows surface_neighbours(const std::vector<std::array<Index, 4>>& quads
 
 class Smoother {
  public:
-  Smoother(HexMesh& mesh, const std::function<Vec3(const Vec3&)>& project, bool move_boundary)
+  Smoother(HexMesh& mesh, const std::function<Vec3(const Vec3&)>& project, bool move_boundary,
+           double feature_angle_degrees)
       : mesh_(mesh), project_(project) {
     const std::size_t n = mesh.points.size();
     point_hexes_ = build_vertex_elements(std::span<const std::array<Index, 8>>(mesh.hexes), n);
@@ -163,6 +165,28 @@ class Smoother {
       for (const Index v : q) boundary_[v] = 1;
     std::vector<std::uint8_t> movable(n, 0);
     for (std::size_t v = 0; v < n; ++v) movable[v] = !point_hexes_.row(v).empty() && (move_boundary || !boundary_[v]);
+    // Feature points (§4.5.3): where two boundary quads around a point meet at more than
+    // the feature angle, the point is on a sharp edge or corner of the surface, and sliding
+    // it to its neighbours' centroid and back onto the surface would round that feature off.
+    if (move_boundary && feature_angle_degrees > 0) {
+      const CompressedRows point_quads = build_vertex_elements(std::span<const std::array<Index, 4>>(quads), n);
+      const double limit = std::cos(feature_angle_degrees * std::numbers::pi / 180);
+      std::vector<Vec3> normal(quads.size());
+      for (std::size_t q = 0; q < quads.size(); ++q) {
+        const auto& c = quads[q];
+        normal[q] = (mesh.points[c[2]] - mesh.points[c[0]]).cross(mesh.points[c[3]] - mesh.points[c[1]]).normalized();
+      }
+      for (std::size_t v = 0; v < n; ++v) {
+        const auto around = point_quads.row(v);
+        for (std::size_t a = 0; a < around.size() && movable[v]; ++a)
+          for (std::size_t b = a + 1; b < around.size(); ++b)
+            if (normal[around[a]].dot(normal[around[b]]) < limit) {
+              movable[v] = 0;
+              ++feature_points_;
+              break;
+            }
+      }
+    }
     colour_points(movable);
     score_.resize(mesh.hexes.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.hexes.size(), kGrain), [&](const auto& range) {
@@ -171,6 +195,7 @@ class Smoother {
   }
 
   const std::vector<double>& scores() const { return score_; }
+  std::size_t feature_points() const { return feature_points_; }
 
   // One round of untangling over the movable points of the inverted hexes; true if a
   // point moved. A point that cannot raise its smallest determinant alone (its neighbours
@@ -364,6 +389,7 @@ class Smoother {
   std::vector<std::uint8_t> boundary_;
   std::vector<std::vector<Index>> colours_;  // movable points of each colour, ascending
   std::vector<double> score_;                // Verdict scaled Jacobian per hex
+  std::size_t feature_points_ = 0;
 };
 
 }  // namespace
@@ -385,7 +411,8 @@ HexSmoothingResult smooth_hex_mesh(HexMesh& mesh, const std::function<Vec3(const
   HexSmoothingResult result;
   if (mesh.hexes.empty()) return result;
 
-  Smoother smoother(mesh, project, options.move_boundary);
+  Smoother smoother(mesh, project, options.move_boundary, options.feature_angle_degrees);
+  result.feature_points = smoother.feature_points();
   const ScoreStatistics before = score_statistics(smoother.scores());
   result.inverted_before = before.inverted;
   result.min_scaled_jacobian_before = before.min;
@@ -406,10 +433,14 @@ HexSmoothingResult smooth_hex_mesh(HexMesh& mesh, const std::function<Vec3(const
   for (int sweep = 0; sweep < options.iterations; ++sweep) {
     const std::size_t moves = smoother.smoothing_sweep();
     ++result.sweeps;
-    const double previous_mean = current.mean();
+    const double previous_mean = current.mean(), previous_min = current.min;
     current = score_statistics(smoother.scores());
     if (progress) progress->advance();
-    if (moves == 0 || current.mean() - previous_mean < options.min_improvement) break;
+    // Go on while either the worst or the mean scaled Jacobian still gains: a sweep may
+    // raise the worst hex while the mean dips.
+    if (moves == 0 || (current.mean() - previous_mean < options.min_improvement &&
+                       current.min - previous_min < options.min_improvement))
+      break;
   }
   if (progress) progress->finish();
 

@@ -5,6 +5,8 @@
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
+#include <Eigen/Geometry>
+
 #include <iterator>
 #include <limits>
 #include <vector>

@@ -27,6 +27,7 @@
 #include "structmesh/progress.hpp"
 #include "structmesh/quality.hpp"
 
+#include <Eigen/Cholesky>
 #include <Eigen/CholmodSupport>
 #include <Eigen/Geometry>
 #include <Eigen/SparseCore>
@@ -250,9 +251,11 @@ VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source
   result.flipped = result.flipped_before_untangling;
   if (result.flipped > 0 && options.untangle_sweeps > 0) {
     const CompressedRows tets_of_point = build_vertex_elements(tets.tets, point_count);
-    auto untangle_energy = [&](Index point, const Vec3& x, Vec3* gradient) {
+    // The energy at x for `point`, and (if asked) the Gauss-Newton normal equations of the
+    // active tets (V < beta): rows dV/dx, residuals beta - V.
+    auto untangle_energy = [&](Index point, const Vec3& x, Eigen::Matrix3d* normal, Vec3* rhs) {
       double energy = 0;
-      if (gradient) gradient->setZero();
+      if (normal) normal->setZero(), rhs->setZero();
       for (Index t : tets_of_point.row(point)) {
         std::array<Vec3, 4> p;
         int local = 0;
@@ -264,12 +267,12 @@ VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source
         if (volume >= beta[t]) continue;
         const double gap = beta[t] - volume;  // (|V - b| - (V - b)) = 2 (b - V) when V < b
         energy += 4 * gap * gap;
-        if (gradient) {
-          // dV/dx for the moving corner: the area vector of the opposite face / 3, signed so
-          // that moving towards the face's inside raises V.
+        if (normal) {
+          // dV/dx for the moving corner: minus the outward area vector of the opposite face / 3.
           const auto& face = kTetFaces[static_cast<std::size_t>(local)];
-          const Vec3 area_vector = (p[face[1]] - p[face[0]]).cross(p[face[2]] - p[face[0]]) / 6.0;
-          *gradient += 8 * gap * area_vector;
+          const Vec3 dv = -(p[face[1]] - p[face[0]]).cross(p[face[2]] - p[face[0]]) / 6.0;
+          *normal += dv * dv.transpose();
+          *rhs += gap * dv;
         }
       }
       return energy;
@@ -277,30 +280,48 @@ VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source
     std::vector<std::uint8_t> active(point_count, 0);
     std::optional<Progress> progress;
     if (options.progress) progress.emplace("untangling the map", static_cast<std::uint64_t>(options.untangle_sweeps));
+    int stuck_sweeps = 0;
+    std::vector<std::uint8_t> released(boundary_count, 0);
     for (int sweep = 0; sweep < options.untangle_sweeps && result.flipped > 0; ++sweep) {
       std::fill(active.begin(), active.end(), 0);
       for (std::size_t t = 0; t < tet_count; ++t)
         if (!(tet_volume(result.parameter, tets.tets[t]) > beta[t]))
           for (Index v : tets.tets[t]) active[v] = 1;
-      for (std::size_t v = boundary_count; v < point_count; ++v) {
-        if (!active[v]) continue;
+      for (std::size_t v = 0; v < point_count; ++v) {
+        if (!active[v] || (v < boundary_count && !released[v])) continue;
         const auto point = static_cast<Index>(v);
-        Vec3 gradient;
-        const double energy = untangle_energy(point, result.parameter[v], &gradient);
-        if (!(energy > 0) || !(gradient.squaredNorm() > 0)) continue;
-        // Backtracking line search along the steepest descent, starting from the step that
-        // would zero the energy if it were linear.
-        double step = energy / gradient.squaredNorm();
+        Eigen::Matrix3d normal;
+        Vec3 rhs;
+        const double energy = untangle_energy(point, result.parameter[v], &normal, &rhs);
+        if (!(energy > 0)) continue;
+        // Gauss-Newton (the energy is a sum of squares of functions linear in the point),
+        // damped, with backtracking; the volumes are linear in x, so a full step solves the
+        // active set's least squares exactly.
+        const double damping = 1e-6 * normal.trace() + 1e-300;
+        Vec3 step = (normal + damping * Eigen::Matrix3d::Identity()).ldlt().solve(rhs);
+        if (!step.allFinite()) continue;
         for (int attempt = 0; attempt < 30; ++attempt, step *= 0.5) {
-          const Vec3 candidate = result.parameter[v] - step * gradient;
-          if (untangle_energy(point, candidate, nullptr) < energy) {
+          const Vec3 candidate = result.parameter[v] + step;
+          if (untangle_energy(point, candidate, nullptr, nullptr) < energy) {
             result.parameter[v] = candidate;
             break;
           }
         }
       }
+      const std::size_t flipped_before = result.flipped;
       result.flipped = count_flipped();
       if (progress) progress->advance();
+      // Stuck: no interior point alone can unfold what is left (the boundary faces around
+      // it pin it where Q folds tightly). As a last resort the boundary points of the flipped
+      // tets are released and move like interior ones: the map's boundary then leaves Q by a
+      // little there (the hex extraction puts boundary points on Q by itself).
+      if (result.flipped >= flipped_before && ++stuck_sweeps >= 3) {
+        for (std::size_t t = 0; t < tet_count; ++t)
+          if (!(tet_volume(result.parameter, tets.tets[t]) > 0))
+            for (Index v : tets.tets[t])
+              if (v < boundary_count && !released[v]) released[v] = 1, ++result.released_boundary_points;
+        stuck_sweeps = 0;
+      }
     }
   }
   result.seconds_untangle = seconds_since(start);

@@ -53,10 +53,21 @@ void check_distances(const VoxelGrid& grid, std::span<const double> vertex_dista
 struct EnergyChange {
   std::int64_t corners = 0;
   double joined = 0, left = 0;
-  double total(double alpha) const { return static_cast<double>(corners) + alpha * (joined - left); }
+  double departed = 0, returned = 0;  // weights of voxels leaving / rejoining their state in Q's voxelization
+  double total(double alpha) const {
+    return static_cast<double>(corners) + alpha * (joined - left + departed - returned);
+  }
   /// Below this, a change is the rounding of the sums and not a change.
-  double noise(double alpha) const { return 1e-9 * alpha * (joined + left); }
+  double noise(double alpha) const { return 1e-9 * alpha * (joined + left + departed + returned); }
 };
+
+/// The weight of a voxel in the volume term of E_g: the distance of its centre to Q,
+/// estimated as the mean of its eight corners' distances.
+double voxel_weight(const VoxelGrid& grid, std::span<const double> vertex_distance, int x, int y, int z) {
+  double sum = 0;
+  for (int c = 0; c < 8; ++c) sum += vertex_distance[grid.vertex_index(x + (c & 1), y + ((c >> 1) & 1), z + (c >> 2))];
+  return sum / 8;
+}
 
 /// Corner and boundary masks of the vertex row (j, k) of a window (vertex u between
 /// local voxels u and u + 1 along each axis), word w, from the four voxel rows around it.
@@ -76,11 +87,27 @@ VertexRowStatus vertex_row_status(const std::uint64_t* a, const std::uint64_t* b
 }
 
 EnergyChange energy_change(const voxel::VoxelWindow& window, const VoxelGrid& grid,
-                           std::span<const double> vertex_distance) {
+                           std::span<const double> vertex_distance, const std::vector<std::uint8_t>& reference) {
   EnergyChange change;
   const auto& size = window.size();
   const auto& origin = window.origin();
   const int words = window.words();
+  // The volume term: each flipped voxel either leaves the state it has in Q's voxelization
+  // (the reference) or returns to it.
+  for (int k = 0; k < size[2]; ++k)
+    for (int j = 0; j < size[1]; ++j)
+      for (int w = 0; w < words; ++w)
+        for (std::uint64_t flipped = window.row(j, k)[w] ^ window.loaded_row(j, k)[w]; flipped != 0;
+             flipped &= flipped - 1) {
+          const int x = origin[0] + 64 * w + std::countr_zero(flipped), y = origin[1] + j, z = origin[2] + k;
+          if (!grid.inside(x, y, z)) continue;
+          const bool now = (window.row(j, k)[w] >> std::countr_zero(flipped)) & 1;
+          const double weight = voxel_weight(grid, vertex_distance, x, y, z);
+          if (now != (reference[grid.index(x, y, z)] != 0))
+            change.departed += weight;
+          else
+            change.returned += weight;
+        }
   const int vertices_x = size[0] - 1;  // the box's vertices: local 0 .. size - 2
   const auto same = [&](int j, int k) {
     return std::equal(window.row(j, k), window.row(j, k) + words, window.loaded_row(j, k));
@@ -244,7 +271,8 @@ class WindowEvaluator {
   /// The better of a homotopic opening and closing of `radius` layers in `box`, if it
   /// lowers E_p by more than the threshold; the grid is not changed.
   WindowDecision evaluate(const VoxelGrid& grid, const voxel::PackedVoxels& packed, const VoxelBox& box, int radius,
-                          std::span<const double> vertex_distance, const PolycubeOptimizationOptions& options) {
+                          std::span<const double> vertex_distance, const std::vector<std::uint8_t>& reference,
+                          const PolycubeOptimizationOptions& options) {
     WindowDecision decision;
     decision.evaluated = true;
     if (!window_.load(packed, box)) return decision;
@@ -255,7 +283,7 @@ class WindowEvaluator {
     if (!(known & UnchangedMemo::kOpeningUnchanged)) {
       window_.open(radius);
       if (window_.changed())
-        open_change = energy_change(window_, grid, vertex_distance);
+        open_change = energy_change(window_, grid, vertex_distance, reference);
       else
         unchanged |= UnchangedMemo::kOpeningUnchanged;
       window_.reset();
@@ -263,7 +291,7 @@ class WindowEvaluator {
     if (!(known & UnchangedMemo::kClosingUnchanged)) {
       window_.close(radius);
       if (window_.changed())
-        close_change = energy_change(window_, grid, vertex_distance);
+        close_change = energy_change(window_, grid, vertex_distance, reference);
       else
         unchanged |= UnchangedMemo::kClosingUnchanged;
       window_.reset();
@@ -298,14 +326,23 @@ class WindowEvaluator {
 
 }  // namespace
 
-PolycubeEnergy polycube_energy(const VoxelGrid& grid, std::span<const double> vertex_distance, double alpha) {
+PolycubeEnergy polycube_energy(const VoxelGrid& grid, std::span<const double> vertex_distance, double alpha,
+                               const VoxelGrid* reference) {
   check_distances(grid, vertex_distance, "polycube_energy");
+  if (reference && reference->dims != grid.dims)
+    throw InputError("polycube_energy: the reference voxels have other dimensions than the grid");
   PolycubeEnergy energy;
   voxel::for_each_vertex_block(grid, [&](int vx, int vy, int vz, unsigned block) {
     if (!voxel::block_is_boundary(block)) return;
     energy.corners += voxel::block_is_corner(block);
     energy.deviation += vertex_distance[grid.vertex_index(vx, vy, vz)];
   });
+  if (reference)
+    for (int z = 0; z < grid.dims[2]; ++z)
+      for (int y = 0; y < grid.dims[1]; ++y)
+        for (int x = 0; x < grid.dims[0]; ++x)
+          if (grid.at(x, y, z) != reference->at(x, y, z))
+            energy.deviation += voxel_weight(grid, vertex_distance, x, y, z);
   energy.total = static_cast<double>(energy.corners) + alpha * energy.deviation;
   return energy;
 }
@@ -325,6 +362,9 @@ PolycubeOptimizationResult optimize_polycube(VoxelGrid& grid, std::span<const do
                      " voxels is too large for 32-bit voxel indices");
   PolycubeOptimizationResult result;
   result.before = polycube_energy(grid, vertex_distance, options.alpha);
+  // The volume term of E_g is measured against the voxels as they come in (Q's voxelization).
+  const VoxelGrid reference_grid = grid;
+  const std::vector<std::uint8_t>& reference = reference_grid.occupied;
 
   constexpr std::uint32_t kNever = std::numeric_limits<std::uint32_t>::max();
   tbb::enumerable_thread_specific<WindowEvaluator> evaluators;
@@ -373,21 +413,21 @@ PolycubeOptimizationResult optimize_polycube(VoxelGrid& grid, std::span<const do
           return evaluated[i] == kNever || newest_near(window_box(boundary[i])) > evaluated[i];
         };
         decisions.assign(chunk_end - chunk, WindowDecision{});
-        tbb::parallel_for(
-            tbb::blocked_range<std::size_t>(chunk, chunk_end, 8), [&](const tbb::blocked_range<std::size_t>& range) {
-              WindowEvaluator& evaluator = evaluators.local();
-              for (std::size_t i = range.begin(); i < range.end(); ++i)
-                if (needs_evaluation(i))
-                  decisions[i - chunk] =
-                      evaluator.evaluate(grid, packed, window_box(boundary[i]), radius, vertex_distance, options);
-            });
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(chunk, chunk_end, 8),
+                          [&](const tbb::blocked_range<std::size_t>& range) {
+                            WindowEvaluator& evaluator = evaluators.local();
+                            for (std::size_t i = range.begin(); i < range.end(); ++i)
+                              if (needs_evaluation(i))
+                                decisions[i - chunk] = evaluator.evaluate(grid, packed, window_box(boundary[i]), radius,
+                                                                          vertex_distance, reference, options);
+                          });
         for (std::size_t i = chunk; i < chunk_end; ++i) {
           const VoxelBox box = window_box(boundary[i]);
           const std::uint32_t newest = newest_near(box);
           if (evaluated[i] != kNever && newest <= evaluated[i]) continue;
           WindowDecision decision = decisions[i - chunk];
           if (!decision.evaluated || newest > chunk_version)
-            decision = committer.evaluate(grid, packed, box, radius, vertex_distance, options);
+            decision = committer.evaluate(grid, packed, box, radius, vertex_distance, reference, options);
           evaluated[i] = version;
           if (decision.operation == WindowDecision::kKeep) continue;
           VoxelBox changed;
@@ -412,7 +452,7 @@ PolycubeOptimizationResult optimize_polycube(VoxelGrid& grid, std::span<const do
              std::to_string(radius_openings) + " openings, " + std::to_string(radius_closings) + " closings" + elapsed);
     }
   }
-  result.after = polycube_energy(grid, vertex_distance, options.alpha);
+  result.after = polycube_energy(grid, vertex_distance, options.alpha, &reference_grid);
   return result;
 }
 

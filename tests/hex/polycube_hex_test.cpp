@@ -29,7 +29,7 @@ double total_volume(const HexMesh& mesh) {
     for (const auto& f : kHexFaces) {
       const Vec3 &a = mesh.points[h[f[0]]], &b = mesh.points[h[f[1]]], &c = mesh.points[h[f[2]]],
                  &d = mesh.points[h[f[3]]];
-      volume += tet_signed_volume(a, b, c, centre) + tet_signed_volume(a, c, d, centre);
+      volume -= tet_signed_volume(a, b, c, centre) + tet_signed_volume(a, c, d, centre);  // outward faces
     }
   }
   return volume;
@@ -65,22 +65,25 @@ TEST(PolycubeHexMesh, PaddingPutsNoHexWithTwoFacesOnTheBoundary) {
   const TriMesh box = test::subdivided_box(3, 2, 1.5, 6);
   HexOptions options;
   options.size = 0.5;
+  options.features = true;  // the box's edges and corners stay sharp
   const HexResult result = polycube_hex_mesh(box, options);
   expect_valid_hex_mesh(result);
   EXPECT_GT(result.padding_hexes, 0u);
+  EXPECT_GT(result.smoothing.feature_points, 0u);
   const FaceAdjacency<4> faces = build_faces(result.mesh);
   std::vector<int> boundary_faces(result.mesh.hexes.size(), 0);
   for (const auto& cells : faces.face_cells)
     if (cells[1] == kInvalidIndex) ++boundary_faces[cells[0]];
   EXPECT_EQ(*std::max_element(boundary_faces.begin(), boundary_faces.end()), 1);
-  EXPECT_NEAR(total_volume(result.mesh), 9.0, 1e-6);
+  // Faces between hexes may bend a little after smoothing (the sum is exact for planar ones).
+  EXPECT_NEAR(total_volume(result.mesh), 9.0, 1e-3);
 }
 
 TEST(PolycubeHexMesh, SphereAndTorusGiveValidMeshesNearTheInput) {
   HexOptions options;
   options.target_hexes = 2000;
-  for (const auto& [name, surface] : {std::pair{"sphere", test::sphere(1, 16, 32)},
-                                      std::pair{"torus", test::torus(2, 0.7, 48, 24)}}) {
+  for (const auto& [name, surface] :
+       {std::pair{"sphere", test::sphere(1, 16, 32)}, std::pair{"torus", test::torus(2, 0.7, 48, 24)}}) {
     SCOPED_TRACE(name);
     const HexResult result = polycube_hex_mesh(surface, options);
     expect_valid_hex_mesh(result);

@@ -783,7 +783,9 @@ TEST(OptimizePolycube, RemovesABumpTheDistanceFieldDoesNotWant) {
   EXPECT_EQ(result.before.corners, 16u);
   EXPECT_DOUBLE_EQ(result.before.deviation, 4.0);  // the bump's four top vertices
   EXPECT_EQ(result.after.corners, 8u);
-  EXPECT_DOUBLE_EQ(result.after.deviation, 0.0);
+  // No boundary vertex off the box; the volume term counts the removed bump voxel at the
+  // mean distance of its corners (four at 1, four at 0).
+  EXPECT_DOUBLE_EQ(result.after.deviation, 0.5);
   EXPECT_EQ(grid.occupied, box.occupied);
   EXPECT_GE(result.openings, 1u);
   EXPECT_GE(result.sweeps, 6u);  // at least two sweeps at the radius that removed it, one at each other
@@ -811,11 +813,13 @@ TEST(OptimizePolycube, KeepsABumpTheDistanceFieldWantsWhenAlphaIsLarge) {
   EXPECT_EQ(kept.after.corners, 16u);
   EXPECT_EQ(kept.openings + kept.closings, 0u);
 
-  options.alpha = 1;  // -8 corners + 1 * 1 distance: now the bump goes
+  options.alpha = 1;  // -8 corners + 1 * (1 + 0.5) deviation: now the bump goes
   const PolycubeOptimizationResult removed = optimize_polycube(grid, distance, options);
   EXPECT_EQ(grid.occupied, box.occupied);
   EXPECT_EQ(removed.after.corners, 8u);
-  EXPECT_DOUBLE_EQ(removed.after.deviation, 1.0);
+  // 1 at the base's middle vertex, plus the volume term: four removed voxels, each with
+  // that vertex (distance 1) among its eight corners and the others on the surface.
+  EXPECT_DOUBLE_EQ(removed.after.deviation, 1.0 + 4 * (1.0 / 8));
 }
 
 TEST(OptimizePolycube, KeepsTopologyAndWellComposednessAndLowersTheEnergy) {
@@ -871,7 +875,7 @@ TEST(OptimizePolycube, KeepsTopologyAndWellComposednessAndLowersTheEnergy) {
     EXPECT_TRUE(is_well_composed(noisy));
     EXPECT_GT(result.openings + result.closings, 0u);
     EXPECT_LT(result.after.total, result.before.total);
-    const PolycubeEnergy recomputed = polycube_energy(noisy, distance, options.alpha);
+    const PolycubeEnergy recomputed = polycube_energy(noisy, distance, options.alpha, &noisy_input);
     EXPECT_EQ(recomputed.corners, result.after.corners);
     EXPECT_DOUBLE_EQ(recomputed.total, result.after.total);
     // Deterministic: the same input gives the same polycube.
