@@ -12,7 +12,7 @@ packages=(
   liblbfgspp-dev                            # quasi-Newton minimiser of the L_p-CVT energy
   libopenmpi-dev openmpi-bin                # distributed quad meshing (mpirun structmesh quad2d)
   libtet1.5-dev libembree-dev               # tetrahedralization (TetGen), visibility rays (Embree 3)
-  libsuitesparse-dev                        # CHOLMOD: sparse Cholesky of the volumetric polycube map
+  libsuitesparse-dev libopenblas0-pthread   # CHOLMOD (sparse Cholesky of the volumetric map) on an optimised BLAS
   libgtest-dev libbenchmark-dev             # tests, benchmarks
   libgmsh-dev gmsh                          # oracle: Gmsh reads our .msh; makes a hex mesh for tests
   python3-vtk9                              # oracle: VTK's vtkMeshQuality (Verdict)

@@ -27,6 +27,13 @@ namespace structmesh {
 /// voxel grid's (origin + size * lattice), so facets of the polycube are grid faces.
 HexMesh polycube_hex_grid(const VoxelGrid& grid, double hex_size);
 
+/// What polycube_hex_grid() would make, counted without making it (cheap: one pass over the
+/// cells of the facet planes' grid): its hexes and its boundary quads.
+struct PolycubeGridCount {
+  std::size_t hexes = 0, boundary_quads = 0;
+};
+PolycubeGridCount polycube_hex_count(const VoxelGrid& grid, double hex_size);
+
 /// The boundary of a hex mesh: faces used by one hex, outward, in build_faces() order, on the
 /// hex mesh's own point indices.
 std::vector<std::array<Index, 4>> hex_boundary_quads(const HexMesh& mesh);

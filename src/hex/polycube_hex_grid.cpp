@@ -42,26 +42,76 @@ std::vector<int> facet_planes(const VoxelGrid& grid, int axis) {
   return planes;
 }
 
-}  // namespace
+/// Per axis: the facet planes and each slab's layer count.
+struct Slabs {
+  std::array<std::vector<int>, 3> planes;
+  std::array<std::vector<int>, 3> layers;  // per slab (planes[a][p] .. planes[a][p + 1])
+};
 
-HexMesh polycube_hex_grid(const VoxelGrid& grid, double hex_size) {
+Slabs slabs_of(const VoxelGrid& grid, double hex_size) {
   if (!(hex_size >= 0) || !std::isfinite(hex_size))
     throw InputError("polycube_hex_grid: hex size must be finite and >= 0, got " + std::to_string(hex_size));
+  Slabs slabs;
+  for (int axis = 0; axis < 3; ++axis) {
+    slabs.planes[axis] = facet_planes(grid, axis);
+    const auto& planes = slabs.planes[axis];
+    for (std::size_t p = 0; p + 1 < planes.size(); ++p) {
+      const double thickness = (planes[p + 1] - planes[p]) * grid.size;
+      // Capped so that a tiny size cannot ask for more layers than 2^20 per slab.
+      const double wanted = hex_size > 0 ? std::min(thickness / hex_size, double{1 << 20}) : 1.0;
+      slabs.layers[axis].push_back(std::max(1, static_cast<int>(std::lround(wanted))));
+    }
+  }
+  return slabs;
+}
+
+}  // namespace
+
+PolycubeGridCount polycube_hex_count(const VoxelGrid& grid, double hex_size) {
+  PolycubeGridCount count;
+  if (grid.count() == 0) return count;
+  const Slabs slabs = slabs_of(grid, hex_size);
+  const std::array<std::size_t, 3> n{slabs.layers[0].size(), slabs.layers[1].size(), slabs.layers[2].size()};
+  auto occupied = [&](std::array<std::ptrdiff_t, 3> c) {
+    for (int a = 0; a < 3; ++a)
+      if (c[a] < 0 || c[a] >= static_cast<std::ptrdiff_t>(n[a])) return false;
+    return grid.at(slabs.planes[0][static_cast<std::size_t>(c[0])], slabs.planes[1][static_cast<std::size_t>(c[1])],
+                   slabs.planes[2][static_cast<std::size_t>(c[2])]);
+  };
+  for (std::size_t k = 0; k < n[2]; ++k)
+    for (std::size_t j = 0; j < n[1]; ++j)
+      for (std::size_t i = 0; i < n[0]; ++i) {
+        const std::array<std::ptrdiff_t, 3> c{static_cast<std::ptrdiff_t>(i), static_cast<std::ptrdiff_t>(j),
+                                              static_cast<std::ptrdiff_t>(k)};
+        if (!occupied(c)) continue;
+        const std::array<std::size_t, 3> l{static_cast<std::size_t>(slabs.layers[0][i]),
+                                           static_cast<std::size_t>(slabs.layers[1][j]),
+                                           static_cast<std::size_t>(slabs.layers[2][k])};
+        count.hexes += l[0] * l[1] * l[2];
+        for (int axis = 0; axis < 3; ++axis)
+          for (const int side : {-1, 1}) {
+            std::array<std::ptrdiff_t, 3> d = c;
+            d[axis] += side;
+            if (!occupied(d)) count.boundary_quads += l[(axis + 1) % 3] * l[(axis + 2) % 3];
+          }
+      }
+  return count;
+}
+
+HexMesh polycube_hex_grid(const VoxelGrid& grid, double hex_size) {
   HexMesh mesh;
+  const Slabs slabs = slabs_of(grid, hex_size);
   if (grid.count() == 0) return mesh;
   // Per axis: grid coordinates (in lattice units, fractional) of every layer boundary, and
   // for each layer the voxel index it lies in.
   std::array<std::vector<double>, 3> coordinate;
   std::array<std::vector<int>, 3> voxel_of_layer;
   for (int axis = 0; axis < 3; ++axis) {
-    const std::vector<int> planes = facet_planes(grid, axis);
+    const auto& planes = slabs.planes[axis];
     for (std::size_t p = 0; p + 1 < planes.size(); ++p) {
-      const int a = planes[p], b = planes[p + 1];
-      const double thickness = (b - a) * grid.size;
-      const int layers = hex_size > 0 ? std::max(1, static_cast<int>(std::lround(thickness / hex_size))) : 1;
+      const int a = planes[p], b = planes[p + 1], layers = slabs.layers[axis][p];
       for (int l = 0; l < layers; ++l) {
-        const double t = a + (b - a) * static_cast<double>(l) / layers;
-        coordinate[axis].push_back(t);
+        coordinate[axis].push_back(a + (b - a) * static_cast<double>(l) / layers);
         // Occupancy is constant across the slab: its first voxel stands for it.
         voxel_of_layer[axis].push_back(a);
       }

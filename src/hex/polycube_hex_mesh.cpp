@@ -53,15 +53,15 @@ class StageTimer {
 
 /// The grid's hex count (padding included) for a hex size.
 std::size_t hex_count(const VoxelGrid& voxels, double hex_size, bool padding) {
-  const HexMesh grid = polycube_hex_grid(voxels, hex_size);
-  return grid.hexes.size() + (padding ? hex_boundary_quads(grid).size() : 0);
+  const PolycubeGridCount count = polycube_hex_count(voxels, hex_size);
+  return count.hexes + (padding ? count.boundary_quads : 0);
 }
 
 /// The hex size whose grid has about `target` hexes: bisection on log(size) (the count falls
 /// as the size grows, in steps). 0 when even one layer per slab gives more than the target.
 double hex_size_for_count(const VoxelGrid& voxels, std::size_t target, bool padding) {
   if (hex_count(voxels, 0, padding) >= target) return 0;
-  double lo = voxels.size / 16, hi = voxels.size * std::max({voxels.dims[0], voxels.dims[1], voxels.dims[2]});
+  double lo = voxels.size / 8, hi = voxels.size * std::max({voxels.dims[0], voxels.dims[1], voxels.dims[2]});
   for (int i = 0; i < 20; ++i) {
     const double mid = std::sqrt(lo * hi);
     if (hex_count(voxels, mid, padding) > target)
@@ -71,6 +71,13 @@ double hex_size_for_count(const VoxelGrid& voxels, std::size_t target, bool padd
     if (hi / lo < 1.01) break;
   }
   return std::sqrt(lo * hi);
+}
+
+double mean_edge_length(const TriMesh& surface) {
+  double sum = 0;
+  for (const auto& t : surface.triangles)
+    for (int k = 0; k < 3; ++k) sum += (surface.points[t[k]] - surface.points[t[(k + 1) % 3]]).norm();
+  return surface.triangles.empty() ? 0 : sum / (3.0 * static_cast<double>(surface.triangles.size()));
 }
 
 TriMesh triangulated_boundary(const HexMesh& mesh) {
@@ -99,12 +106,22 @@ HexResult polycube_hex_mesh(const TriMesh& surface, const HexOptions& options) {
   for (const auto& stage : polycube.stage_seconds) result.stage_seconds.push_back(stage);
   timer.stop("polycube (total)");
 
+  // The integer grid on P (§5.3): hex size from the requested count or length.
+  if (options.target_hexes > 0)
+    result.hex_size = hex_size_for_count(polycube.voxels, options.target_hexes, options.padding);
+  else
+    result.hex_size = options.size;
   // The input solid's tet mesh, in the aligned frame (the frame of Q and P).
   TriMesh aligned = surface;
   for (Vec3& p : aligned.points) p = polycube.alignment.apply(p);
   if (options.progress) status("hex: tetrahedralizing the solid");
   TetmeshOptions tet_options;
-  tet_options.size = options.tet_size;
+  // The map need not be finer than the hexes: tets as large as a hex inside (TetGen keeps
+  // the surface's own resolution at the boundary). A finer default cost the bunny 3.4M tets
+  // and two minutes of solving for 80k hexes.
+  const PolycubeGridCount grid_count = polycube_hex_count(polycube.voxels, result.hex_size);
+  const double mean_hex = std::cbrt(enclosed_volume(aligned) / static_cast<double>(std::max<std::size_t>(grid_count.hexes, 1)));
+  tet_options.size = options.tet_size > 0 ? options.tet_size : std::max(mean_edge_length(aligned), mean_hex);
   tet_options.check_input = false;  // build_polycube() has checked the surface
   TetmeshResult tets = tetrahedralize(aligned, tet_options);
   result.tets = std::move(tets.mesh);
@@ -120,11 +137,6 @@ HexResult polycube_hex_mesh(const TriMesh& surface, const HexOptions& options) {
   result.parameter = result.map.parameter;
   timer.stop("volumetric map");
 
-  // The integer grid on P (§5.3): hex size from the requested count or length.
-  if (options.target_hexes > 0)
-    result.hex_size = hex_size_for_count(polycube.voxels, options.target_hexes, options.padding);
-  else
-    result.hex_size = options.size;
   HexMesh grid = polycube_hex_grid(polycube.voxels, result.hex_size);
   if (grid.hexes.empty()) throw Error("hex: the polycube has no voxels");
   if (options.progress)

@@ -77,6 +77,24 @@ TEST(PolycubeHexGrid, LShapeCutsAtItsFacetPlanes) {
     for (int a = 0; a < 3; ++a) EXPECT_NEAR(p[a] - grid.origin[a], std::round(p[a] - grid.origin[a]), 1e-12);
 }
 
+TEST(PolycubeHexGrid, CountMatchesTheGrid) {
+  // An L with a hole-free notch in z as well, at several sizes.
+  VoxelGrid grid = filled({5, 4, 3}, 1.0);
+  for (int x = 2; x < 5; ++x)
+    for (int y = 2; y < 4; ++y) grid.set(x, y, 2, false);
+  grid.set(0, 0, 0, false);
+  for (const double size : {0.0, 0.3, 0.5, 1.0, 1.7, 10.0}) {
+    SCOPED_TRACE(size);
+    const HexMesh mesh = polycube_hex_grid(grid, size);
+    const PolycubeGridCount count = polycube_hex_count(grid, size);
+    EXPECT_EQ(count.hexes, mesh.hexes.size());
+    EXPECT_EQ(count.boundary_quads, hex_boundary_quads(mesh).size());
+  }
+  EXPECT_EQ(polycube_hex_count(VoxelGrid({2, 2, 2}, Vec3::Zero(), 1.0), 1.0).hexes, 0u);
+  // A tiny size asks for a huge grid; counting it costs nothing.
+  EXPECT_GT(polycube_hex_count(grid, 1e-4).hexes, std::size_t{1} << 40);
+}
+
 TEST(PolycubeHexGrid, EmptyAndBadInput) {
   VoxelGrid empty({2, 2, 2}, Vec3::Zero(), 1.0);
   EXPECT_TRUE(polycube_hex_grid(empty, 1.0).hexes.empty());
