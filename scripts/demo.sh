@@ -48,6 +48,9 @@ if [[ -d "$data" ]]; then
   echo "== 3D (ch. 4): the rocker arm's polycube domain (deformed, voxelized, optimised)"
   "$sm" polycube "$data/surfaces/rocker-arm.obj" -o "$out/rocker-arm-polycube.obj" -o "$out/rocker-arm-polycube.png" \
     --deformed "$out/rocker-arm-pseudo-polycube.obj" --json "$out/rocker-arm-polycube.json"
+  echo "== 3D (ch. 4-5): an all-hex mesh of the genus-3 model by polycube mapping"
+  "$sm" hex "$data/surfaces/3holes.off" --hexes 25000 -o "$out/3holes-hex.vtu" -o "$out/3holes-hex.png" \
+    --view 30,35 --polycube "$out/3holes-polycube.obj" --json "$out/3holes-hex.json"
   # A model with defects: check reports them and exits 2, which the demo expects.
   if "$sm" check "$data/surfaces/tosca_centaur.off" --json "$out/centaur-check.json"; then
     echo "unexpected: centaur reported valid" >&2

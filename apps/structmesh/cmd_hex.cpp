@@ -193,6 +193,7 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
                                {"smoothing",
                                 {{"sweeps", result.smoothing.sweeps},
                                  {"feature_points", result.smoothing.feature_points},
+                                 {"released_boundary_points", result.smoothing.released_boundary_points},
                                  {"inverted_before", result.smoothing.inverted_before},
                                  {"min_scaled_jacobian_before", result.smoothing.min_scaled_jacobian_before},
                                  {"mean_scaled_jacobian_before", result.smoothing.mean_scaled_jacobian_before}}},

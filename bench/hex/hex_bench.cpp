@@ -67,8 +67,9 @@ int main(int argc, char** argv) {
     try {
       const TriMesh surface = to_tri_mesh(read_mesh(path));
       if (!check_surface(to_bundle(surface)).valid_solid_boundary) {
-        std::printf("| %s | %zu | not a solid boundary (open, self-intersecting or inward): skipped |||||||||||||| %s |\n",
-                    name.c_str(), surface.points.size(), anchor);
+        std::printf(
+            "| %s | %zu | not a solid boundary (open, self-intersecting or inward): skipped |||||||||||||| %s |\n",
+            name.c_str(), surface.points.size(), anchor);
         std::fflush(stdout);
         continue;
       }
@@ -86,8 +87,7 @@ int main(int argc, char** argv) {
           q.dihedral_degrees.mean, q.dihedral_degrees.stddev, r.map.volume_distortion, 1e3 * r.geometric_deviation,
           q.singular_vertices, r.polycube.optimization.after.corners, stage(r, "polycube (total)"),
           stage(r, "tet mesh") + stage(r, "volumetric map"),
-          stage(r, "hex grid") + stage(r, "inverse map") + stage(r, "padding") + stage(r, "smoothing"), total,
-          anchor);
+          stage(r, "hex grid") + stage(r, "inverse map") + stage(r, "padding") + stage(r, "smoothing"), total, anchor);
     } catch (const std::exception& e) {
       std::string message = e.what();
       if (message.size() > 160) message = message.substr(0, 160) + "...";

@@ -82,6 +82,8 @@ struct HexSmoothingResult {
   double mean_scaled_jacobian_before = 0, mean_scaled_jacobian_after = 0;
   int sweeps = 0;
   std::size_t feature_points = 0;  ///< boundary points held on a sharp feature
+  /// Boundary points of hexes the untangling could not fix on the surface, then let off it.
+  std::size_t released_boundary_points = 0;
 };
 
 /// Untangling and smoothing of a hex mesh in place. Inverted hexes are untangled first
@@ -89,7 +91,9 @@ struct HexSmoothingResult {
 /// moves to improve the worst scaled Jacobian of the hexes around it, and a move is accepted
 /// only if that worst value does not drop (so no valid hex ever inverts). Boundary points
 /// (points of hex_boundary_quads) are moved and then put back with `project` when
-/// move_boundary is set, and stay where they are otherwise. `project` must be thread-safe.
+/// move_boundary is set, and stay where they are otherwise; boundary points of hexes still
+/// inverted after the untangling are then let off the surface for a second untangling (see
+/// HexSmoothingResult::released_boundary_points). `project` must be thread-safe.
 HexSmoothingResult smooth_hex_mesh(HexMesh& mesh, const std::function<Vec3(const Vec3&)>& project,
                                    const HexSmoothingOptions& options = {});
 

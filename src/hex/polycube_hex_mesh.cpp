@@ -120,7 +120,8 @@ HexResult polycube_hex_mesh(const TriMesh& surface, const HexOptions& options) {
   // the surface's own resolution at the boundary). A finer default cost the bunny 3.4M tets
   // and two minutes of solving for 80k hexes.
   const PolycubeGridCount grid_count = polycube_hex_count(polycube.voxels, result.hex_size);
-  const double mean_hex = std::cbrt(enclosed_volume(aligned) / static_cast<double>(std::max<std::size_t>(grid_count.hexes, 1)));
+  const double mean_hex =
+      std::cbrt(enclosed_volume(aligned) / static_cast<double>(std::max<std::size_t>(grid_count.hexes, 1)));
   tet_options.size = options.tet_size > 0 ? options.tet_size : std::max(mean_edge_length(aligned), mean_hex);
   tet_options.check_input = false;  // build_polycube() has checked the surface
   TetmeshResult tets = tetrahedralize(aligned, tet_options);

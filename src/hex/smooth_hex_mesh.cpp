@@ -161,6 +161,7 @@ class Smoother {
     const std::vector<std::array<Index, 4>> quads = hex_boundary_quads(mesh);
     surface_neighbours_ = surface_neighbours(quads, n);
     boundary_.assign(n, 0);
+    released_.assign(n, 0);
     for (const auto& q : quads)
       for (const Index v : q) boundary_[v] = 1;
     std::vector<std::uint8_t> movable(n, 0);
@@ -269,8 +270,23 @@ class Smoother {
     }
   }
 
-  Vec3 put_back(Index v, const Vec3& x) const { return boundary_[v] ? project_(x) : x; }
+  Vec3 put_back(Index v, const Vec3& x) const { return boundary_[v] && !released_[v] ? project_(x) : x; }
 
+ public:
+  // Boundary points of the hexes still inverted stop being put back on the surface: where
+  // the surface folds tighter than a hex, no point on it unfolds the hex, and a valid mesh a
+  // little off the surface there beats an inverted one on it. Returns how many were released.
+  std::size_t release_boundary_of_inverted() {
+    std::size_t released = 0;
+    released_.resize(mesh_.points.size(), 0);
+    for (std::size_t h = 0; h < mesh_.hexes.size(); ++h)
+      if (score_[h] <= 0)
+        for (const Index v : mesh_.hexes[h])
+          if (boundary_[v] && !released_[v]) released_[v] = 1, ++released;
+    return released;
+  }
+
+ private:
   // Knupp's untangling of one point: Gauss-Newton steps towards kUntangleTarget for every
   // normalised determinant that depends on the point, each accepted only if the smallest of
   // them grows (after projection for a boundary point).
@@ -390,6 +406,7 @@ class Smoother {
   std::vector<std::vector<Index>> colours_;  // movable points of each colour, ascending
   std::vector<double> score_;                // Verdict scaled Jacobian per hex
   std::size_t feature_points_ = 0;
+  std::vector<std::uint8_t> released_;  // boundary points no longer put back on the surface
 };
 
 }  // namespace
@@ -426,6 +443,14 @@ HexSmoothingResult smooth_hex_mesh(HexMesh& mesh, const std::function<Vec3(const
       status("hex smoothing: untangling round " + std::to_string(round + 1) + ", " + std::to_string(current.inverted) +
              " inverted hexes");
     if (!moved) break;
+  }
+  if (current.inverted > 0 && options.move_boundary) {
+    result.released_boundary_points = smoother.release_boundary_of_inverted();
+    for (int round = 0; round < kUntangleRounds && current.inverted > 0; ++round) {
+      const bool moved = smoother.untangle_round();
+      current = score_statistics(smoother.scores());
+      if (!moved) break;
+    }
   }
 
   std::optional<Progress> progress;

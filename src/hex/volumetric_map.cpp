@@ -157,7 +157,9 @@ VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source
     std::vector<Eigen::Triplet<double>> entries;
     entries.reserve(edges.edges.size() * 4);
     Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(unknowns, 4);
-    const auto unknown = [&](Index v) { return static_cast<Eigen::Index>(v) - static_cast<Eigen::Index>(boundary_count); };
+    const auto unknown = [&](Index v) {
+      return static_cast<Eigen::Index>(v) - static_cast<Eigen::Index>(boundary_count);
+    };
     for (const auto& [a, b] : edges.edges)
       for (auto [p, q] : {std::pair{a, b}, std::pair{b, a}}) {
         if (p < boundary_count) continue;
@@ -167,6 +169,11 @@ VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source
         else
           rhs.row(unknown(p)) += point_quaternion[q].normalized().transpose();
       }
+    // A point no tet uses (TetGen may leave one) has no edges: pin it with a unit diagonal.
+    std::vector<std::uint8_t> has_edge(point_count, 0);
+    for (const auto& [a, b] : edges.edges) has_edge[a] = has_edge[b] = 1;
+    for (std::size_t v = boundary_count; v < point_count; ++v)
+      if (!has_edge[v]) entries.emplace_back(unknown(static_cast<Index>(v)), unknown(static_cast<Index>(v)), 1.0);
     Eigen::SparseMatrix<double> laplacian(unknowns, unknowns);
     laplacian.setFromTriplets(entries.begin(), entries.end());
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver(laplacian);
@@ -220,6 +227,15 @@ VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source
         }
       }
     }
+    // Points no tet uses: a unit diagonal keeps the system definite (they stay at the origin).
+    std::vector<std::uint8_t> used(point_count, 0);
+    for (const auto& tet : tets.tets)
+      for (Index v : tet) used[v] = 1;
+    for (std::size_t i = boundary_count; i < point_count; ++i)
+      if (!used[i]) {
+        const auto row = static_cast<Eigen::Index>(unknown_of_point[i]);
+        entries.emplace_back(row, row, 1.0);
+      }
     Eigen::SparseMatrix<double> stiffness(static_cast<Eigen::Index>(unknowns), static_cast<Eigen::Index>(unknowns));
     stiffness.setFromTriplets(entries.begin(), entries.end());
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver(stiffness);

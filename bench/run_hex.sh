@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Runs the polycube hex meshing benchmark (chapter 5: Table 5.2's measures and Table 5.1's
+# stage times at the dissertation's hex counts) and stores the Markdown in bench/results/hex.md.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+"$root/scripts/build.sh" >/dev/null
+data=${STRUCTMESH_DATA:-$root/../shared/data}
+bin="${BUILD_DIR:-$root/build}/bin"
+result="$root/bench/results/hex.md"
+{
+  echo "# Polycube hex meshing benchmark (issue 6, dissertation ch. 5)"
+  echo
+  echo "Measured $(date -u +%Y-%m-%d) on this machine: $(nproc) cores, $(awk '/MemTotal/ {printf "%.0f GiB", $2/1048576}' /proc/meminfo)," \
+       "$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'). One run each; times in seconds, wall clock."
+  cat "$root/bench/hex/notes.md"
+  echo
+  "$bin/bench_hex" "$data" 2>/dev/null
+} >"$result.tmp"
+mv "$result.tmp" "$result"
+echo "wrote $result"
