@@ -445,11 +445,16 @@ HexSmoothingResult smooth_hex_mesh(HexMesh& mesh, const std::function<Vec3(const
     if (!moved) break;
   }
   if (current.inverted > 0 && options.move_boundary) {
-    result.released_boundary_points = smoother.release_boundary_of_inverted();
-    for (int round = 0; round < kUntangleRounds && current.inverted > 0; ++round) {
-      const bool moved = smoother.untangle_round();
-      current = score_statistics(smoother.scores());
-      if (!moved) break;
+    // Stuck clusters: points whose hexes all hold each other in place. Let the boundary go
+    // and alternate smoothing sweeps (which move the valid neighbours) with untangling.
+    for (int attempt = 0; attempt < 8 && current.inverted > 0; ++attempt) {
+      result.released_boundary_points += smoother.release_boundary_of_inverted();
+      if (attempt > 0) smoother.smoothing_sweep();
+      for (int round = 0; round < kUntangleRounds && current.inverted > 0; ++round) {
+        const bool moved = smoother.untangle_round();
+        current = score_statistics(smoother.scores());
+        if (!moved) break;
+      }
     }
   }
 

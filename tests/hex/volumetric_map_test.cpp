@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -102,6 +103,49 @@ TEST(VolumetricMap, RejectsMismatchedInput) {
   moved.points[0].x() += 0.1;
   EXPECT_THROW(volumetric_map(tets, moved, box), InputError);  // not the tet mesh's points
   EXPECT_THROW(volumetric_map(TetMesh{}, box, box), InputError);
+}
+
+}  // namespace
+}  // namespace structmesh
+
+namespace structmesh {
+namespace {
+
+TEST(SplitBoundaryTets, NoTetIsPinnedByTheBoundaryAndTheMeshStaysConforming) {
+  // A coarse box: TetGen fills it with tets whose four points are all on the surface.
+  const TriMesh box = test::subdivided_box(2, 1, 1, 2);
+  TetmeshOptions options;
+  options.size = 5;  // no interior points wanted
+  TetMesh tets = tetrahedralize(box, options).mesh;
+  const auto pinned = [&] {
+    std::size_t count = 0;
+    for (const auto& t : tets.tets)
+      if (std::all_of(t.begin(), t.end(), [&](Index v) { return v < box.points.size(); })) ++count;
+    return count;
+  };
+  ASSERT_GT(pinned(), 0u);
+  double volume_before = 0;
+  for (const auto& t : tets.tets)
+    volume_before += tet_signed_volume(tets.points[t[0]], tets.points[t[1]], tets.points[t[2]], tets.points[t[3]]);
+  const std::size_t boundary_faces_before = boundary_surface(tets).triangles.size();
+
+  const std::size_t split = split_boundary_tets(tets, box.points.size());
+  EXPECT_GT(split, 0u);
+  EXPECT_EQ(pinned(), 0u);
+  double volume_after = 0;
+  for (const auto& t : tets.tets) {
+    const double v = tet_signed_volume(tets.points[t[0]], tets.points[t[1]], tets.points[t[2]], tets.points[t[3]]);
+    EXPECT_GT(v, 0);
+    volume_after += v;
+  }
+  EXPECT_NEAR(volume_after, volume_before, 1e-12);
+  // Conforming: every face in one or two tets, and the boundary is still the box's triangles.
+  const FaceAdjacency<3> faces = build_faces(tets);
+  EXPECT_TRUE(faces.extra_cells.empty());
+  EXPECT_EQ(boundary_surface(tets).triangles.size(), boundary_faces_before);
+  // Nothing to do the second time.
+  EXPECT_EQ(split_boundary_tets(tets, box.points.size()), 0u);
+  EXPECT_THROW(split_boundary_tets(tets, tets.points.size() + 1), InputError);
 }
 
 }  // namespace
