@@ -2,6 +2,7 @@
 // Table 5.1's stage times for every closed model of the data set, at the dissertation's hex
 // counts where it has a row (10k hexes otherwise), beside its numbers.
 //   bench_hex DATA_DIR [MODEL...]
+#include "../surface_models.hpp"
 #include "structmesh/check.hpp"
 #include "structmesh/error.hpp"
 #include "structmesh/hex.hpp"
@@ -46,13 +47,7 @@ double stage(const HexResult& r, const std::string& name) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const std::filesystem::path data = argc > 1 ? argv[1] : "../shared/data";
-  std::vector<std::string> only(argv + std::min(argc, 2), argv + argc);
-  std::vector<std::filesystem::path> models;
-  for (const auto& entry : std::filesystem::directory_iterator(data / "surfaces"))
-    if (only.empty() || std::find(only.begin(), only.end(), entry.path().filename().string()) != only.end())
-      models.push_back(entry.path());
-  std::sort(models.begin(), models.end());
+  const std::vector<std::filesystem::path> models = bench::surface_models(argc, argv);
 
   std::printf(
       "| model | vertices | target | hexes | scaled Jacobian min / avg | 8-corner min | inverted | dihedral avg / std "

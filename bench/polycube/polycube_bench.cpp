@@ -3,6 +3,7 @@
 // after the optimisation of (4.1), the topology check, and the time of each stage beside
 // Table 5.1's t_pre and t_opt; then Table 4.1's alpha trade-off on the rocker arm.
 //   bench_polycube DATA_DIR [MODEL...]
+#include "../surface_models.hpp"
 #include "structmesh/check.hpp"
 #include "structmesh/error.hpp"
 #include "structmesh/io.hpp"
@@ -43,13 +44,7 @@ std::string topology(const VoxelTopology& t) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const std::filesystem::path data = argc > 1 ? argv[1] : "../shared/data";
-  std::vector<std::string> only(argv + std::min(argc, 2), argv + argc);
-  std::vector<std::filesystem::path> models;
-  for (const auto& entry : std::filesystem::directory_iterator(data / "surfaces"))
-    if (only.empty() || std::find(only.begin(), only.end(), entry.path().filename().string()) != only.end())
-      models.push_back(entry.path());
-  std::sort(models.begin(), models.end());
+  const std::vector<std::filesystem::path> models = bench::surface_models(argc, argv);
 
   std::printf(
       "| model | vertices | genus | normal deviation, input -> Q (deg) | wedges | Morse eta / diagonal | voxel size / "
@@ -91,8 +86,9 @@ int main(int argc, char** argv) {
   }
 
   // Table 4.1: the weight alpha against corners and deviation, on the rocker arm.
-  const std::filesystem::path rocker = data / "surfaces" / "rocker-arm.obj";
-  if (!only.empty() || !std::filesystem::exists(rocker)) return 0;
+  const std::filesystem::path rocker =
+      std::filesystem::path(argc > 1 ? argv[1] : "../shared/data") / "surfaces" / "rocker-arm.obj";
+  if (argc > 2 || !std::filesystem::exists(rocker)) return 0;
   std::printf("\n| alpha | E_c (corners) | E_g (sum of distances / diagonal) | dissertation: E_c / E_g |\n");
   std::printf("|---:|---:|---:|---|\n");
   const TriMesh surface = to_tri_mesh(read_mesh(rocker));

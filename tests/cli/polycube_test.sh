@@ -25,16 +25,7 @@ END
 grep -q 'Name="axis"' "$work/p.vtu" || fail "p.vtu has no axis cell data"
 [[ -s "$work/p.png" && -s "$work/q.obj" ]] || fail "no picture or no deformed surface"
 
-# Bad input: an open surface exits 2 and names it; an unsupported output exits 2; nothing written.
-{ echo "OFF"; echo "4 2 0"; echo "0 0 0"; echo "1 0 0"; echo "0 1 0"; echo "0 0 1"; echo "3 0 2 1"; echo "3 0 1 3"; } \
-  >"$work/open.off"
-"$sm" polycube "$work/open.off" -o "$work/open.obj" 2>"$work/open.err"
-status=$?
-[[ $status -eq 2 ]] || fail "open surface: exit $status, expected 2"
-grep -q "open.off" "$work/open.err" || fail "open surface: file not named in: $(cat "$work/open.err")"
-[[ ! -e "$work/open.obj" ]] || fail "open surface: an output was written"
-"$sm" polycube "$torus" -o "$work/p.stl" 2>/dev/null
-status=$?
-[[ $status -eq 2 ]] || fail "-o p.stl: exit $status, expected 2"
+# Bad input: an open surface and an unsupported output exit 2.
+expect_bad_input_rejected polycube obj
 
 finish polycube

@@ -1,0 +1,24 @@
+// The surface models a 3D benchmark runs on: every file of DATA/surfaces, or only the ones
+// named on the command line, in name order.
+#pragma once
+
+#include <algorithm>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace structmesh::bench {
+
+/// argv[1] is the data folder (default ../shared/data), argv[2...] optional model names.
+inline std::vector<std::filesystem::path> surface_models(int argc, char** argv) {
+  const std::filesystem::path data = argc > 1 ? argv[1] : "../shared/data";
+  const std::vector<std::string> only(argv + std::min(argc, 2), argv + argc);
+  std::vector<std::filesystem::path> models;
+  for (const auto& entry : std::filesystem::directory_iterator(data / "surfaces"))
+    if (only.empty() || std::find(only.begin(), only.end(), entry.path().filename().string()) != only.end())
+      models.push_back(entry.path());
+  std::sort(models.begin(), models.end());
+  return models;
+}
+
+}  // namespace structmesh::bench
