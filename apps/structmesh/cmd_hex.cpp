@@ -175,7 +175,9 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
                                {"inverted", q.inverted},
                                {"invalid", q.invalid},
                                {"dihedral_degrees", statistics_json(q.dihedral_degrees)},
-                               {"volume_distortion", result.map.volume_distortion},
+                               // D_v is undefined when the map keeps a flipped tet.
+         {"volume_distortion",
+          result.map.flipped == 0 ? nlohmann::json(result.map.volume_distortion) : nlohmann::json(nullptr)},
                                {"geometric_deviation", result.geometric_deviation},
                                {"singular_vertices", q.singular_vertices},
                                {"singular_interior", q.singular_interior},

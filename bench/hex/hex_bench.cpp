@@ -74,12 +74,18 @@ int main(int argc, char** argv) {
       const HexResult r = polycube_hex_mesh(surface, options);
       const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       const HexQuality& q = r.quality;
+      char buffer[64];
+      if (r.map.flipped == 0)
+        std::snprintf(buffer, sizeof buffer, "%.3f", r.map.volume_distortion);
+      else
+        std::snprintf(buffer, sizeof buffer, "- (%zu flipped)", r.map.flipped);
+      const std::string volume_distortion = buffer;
       std::printf(
-          "| %s | %zu | %zu | %zu | %.3f / %.3f | %.3f | %zu | %.2f / %.2f | %.3f | %.3f | %zu | %zu | %.1f | %.1f | "
+          "| %s | %zu | %zu | %zu | %.3f / %.3f | %.3f | %zu | %.2f / %.2f | %s | %.3f | %zu | %zu | %.1f | %.1f | "
           "%.1f | %.1f | %s |\n",
           name.c_str(), surface.points.size(), target, r.mesh.hexes.size(), q.scaled_jacobian_stats.min,
           q.scaled_jacobian_stats.mean, q.corner_scaled_jacobian_stats.min, q.inverted + q.invalid,
-          q.dihedral_degrees.mean, q.dihedral_degrees.stddev, r.map.volume_distortion, 1e3 * r.geometric_deviation,
+          q.dihedral_degrees.mean, q.dihedral_degrees.stddev, volume_distortion.c_str(), 1e3 * r.geometric_deviation,
           q.singular_vertices, r.polycube.optimization.after.corners, stage(r, "polycube (total)"),
           stage(r, "tet mesh") + stage(r, "volumetric map"),
           stage(r, "hex grid") + stage(r, "inverse map") + stage(r, "padding") + stage(r, "smoothing"), total, anchor);
