@@ -49,7 +49,7 @@ std::vector<std::array<Index, 4>> hex_boundary_quads(const HexMesh& mesh);
 HexMesh pillow(const HexMesh& mesh, double depth, std::vector<Index>* copied_from = nullptr,
                std::vector<std::uint8_t>* is_outer = nullptr);
 
-/// The closest point on a triangle surface (CGAL AABB tree; thread-safe queries).
+/// Closest points and line hits on a triangle surface (one CGAL AABB tree; thread-safe queries).
 class SurfaceProjection {
  public:
   explicit SurfaceProjection(const TriMesh& surface);
@@ -58,6 +58,10 @@ class SurfaceProjection {
   SurfaceProjection& operator=(SurfaceProjection&&) noexcept;
   /// Closest point, and (if given) the triangle it lies on and its barycentric coordinates.
   Vec3 closest_point(const Vec3& p, Index* triangle = nullptr, Vec3* barycentric = nullptr) const;
+  /// The point of the surface on the segment p +- reach * direction nearest to p, its
+  /// triangle and barycentric coordinates; false when the segment misses the surface.
+  bool nearest_on_line(const Vec3& p, const Vec3& direction, double reach, Vec3& hit, Index& triangle,
+                       Vec3& barycentric) const;
   /// Squared distance from p to the surface.
   double squared_distance(const Vec3& p) const;
 

@@ -36,6 +36,10 @@ struct TetmeshResult {
 /// A surface enclosing a cavity (a shell nested in another) is an InputError too.
 TetmeshResult tetrahedralize(const TriMesh& surface, const TetmeshOptions& options = {});
 
+/// Mean length of a surface's triangle edges (each shared edge counted twice); 0 without
+/// triangles. The default tet size.
+double mean_edge_length(const TriMesh& surface);
+
 /// Signed volume enclosed by a triangle surface (> 0 when its normals point outward).
 double enclosed_volume(const TriMesh& surface);
 

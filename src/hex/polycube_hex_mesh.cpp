@@ -9,8 +9,9 @@
 //
 // How the grid meets the map. §5.2.1 maps S onto P and pins the map's boundary to P; here
 // the map's boundary is Q, whose correspondence with S is exact (same connectivity), and P's
-// grid is fitted to Q instead: each boundary point of the grid goes to its closest point on
-// Q, each interior point is located in M's parameter image. P and Q differ by about a voxel
+// grid is fitted to Q instead: each boundary point of the grid goes to Q along its polycube
+// normal (the closest point where that line misses Q nearby), each interior point is located
+// in M's parameter image. P and Q differ by about a voxel
 // (P is Q's voxelization, optimised with the distance term of (4.1)), less than a hex layer
 // at the usual hex sizes, so this keeps the grid's structure (P's corners, edges and facets)
 // while every boundary point lands exactly on S. Pinning S to Q also spares the surface map's
@@ -20,7 +21,6 @@
 #include "structmesh/progress.hpp"
 #include "structmesh/quality.hpp"
 #include "structmesh/tetmesh.hpp"
-#include "surface_rays.hpp"
 #include "tet_locator.hpp"
 
 #include <tbb/parallel_for.h>
@@ -71,13 +71,6 @@ double hex_size_for_count(const VoxelGrid& voxels, std::size_t target, bool padd
     if (hi / lo < 1.01) break;
   }
   return std::sqrt(lo * hi);
-}
-
-double mean_edge_length(const TriMesh& surface) {
-  double sum = 0;
-  for (const auto& t : surface.triangles)
-    for (int k = 0; k < 3; ++k) sum += (surface.points[t[k]] - surface.points[t[(k + 1) % 3]]).norm();
-  return surface.triangles.empty() ? 0 : sum / (3.0 * static_cast<double>(surface.triangles.size()));
 }
 
 TriMesh triangulated_boundary(const HexMesh& mesh) {
@@ -150,21 +143,20 @@ HexResult polycube_hex_mesh(const TriMesh& surface, const HexOptions& options) {
   // edge), as §5.2.1 projects along normals, falling back to the closest point when that
   // line misses Q nearby; interior points are located in M's parameter image. Both are
   // interpolated barycentrically onto the aligned input.
+  const std::vector<std::array<Index, 4>> boundary_quads = hex_boundary_quads(grid);
   std::vector<std::uint8_t> axes_of(grid.points.size(), 0);  // bit per axis label of the point's boundary quads
-  for (const auto& q : hex_boundary_quads(grid)) {
+  for (const auto& q : boundary_quads) {
     const Vec3 normal = (grid.points[q[2]] - grid.points[q[0]]).cross(grid.points[q[3]] - grid.points[q[1]]);
     const int label = nearest_axis_label(normal);
     for (Index v : q) axes_of[v] |= static_cast<std::uint8_t>(1u << label);
   }
   const SurfaceProjection onto_q(polycube.pseudo.surface);
-  const hex_detail::SurfaceRays rays(polycube.pseudo.surface);
   const hex_detail::TetLocator locator(result.parameter, result.tets.tets);
   const double voxel = polycube.voxels.size;
   std::vector<Vec3> mapped(grid.points.size());
   std::vector<std::uint8_t> outside(grid.points.size(), 0);
-  auto on_input = [&](Index triangle, const Vec3& barycentric) {
+  auto on_input = [&](Index triangle, const Vec3& b) {  // b: clamped and normalised by SurfaceProjection
     const auto& t = aligned.triangles[triangle];
-    const Vec3 b = barycentric.cwiseMax(0.0) / barycentric.cwiseMax(0.0).sum();
     return Vec3(b[0] * aligned.points[t[0]] + b[1] * aligned.points[t[1]] + b[2] * aligned.points[t[2]]);
   };
   auto through_surface = [&](const Vec3& p, std::uint8_t axes) {
@@ -178,7 +170,7 @@ HexResult polycube_hex_mesh(const TriMesh& surface, const HexOptions& options) {
       const double closest_distance = (closest - p).norm();
       Vec3 hit, hit_barycentric;
       Index hit_triangle = 0;
-      if (rays.nearest_hit(p, normal, 4 * voxel + 2 * closest_distance, hit, hit_triangle, hit_barycentric) &&
+      if (onto_q.nearest_on_line(p, normal, 4 * voxel + 2 * closest_distance, hit, hit_triangle, hit_barycentric) &&
           (hit - p).norm() <= 2 * closest_distance + voxel)
         return on_input(hit_triangle, hit_barycentric);
     }
@@ -211,7 +203,7 @@ HexResult polycube_hex_mesh(const TriMesh& surface, const HexOptions& options) {
   if (options.padding) {
     double edge_sum = 0;
     std::size_t edges = 0;
-    for (const auto& q : hex_boundary_quads(grid))
+    for (const auto& q : boundary_quads)  // the grid's, still (its points moved, not its quads)
       for (int i = 0; i < 4; ++i) {
         edge_sum +=
             (grid.points[q[static_cast<std::size_t>(i)]] - grid.points[q[static_cast<std::size_t>((i + 1) % 4)]])

@@ -436,25 +436,22 @@ HexSmoothingResult smooth_hex_mesh(HexMesh& mesh, const std::function<Vec3(const
   result.mean_scaled_jacobian_before = before.mean();
 
   ScoreStatistics current = before;
-  for (int round = 0; round < kUntangleRounds && current.inverted > 0; ++round) {
-    const bool moved = smoother.untangle_round();
-    current = score_statistics(smoother.scores());
-    if (options.progress)
-      status("hex smoothing: untangling round " + std::to_string(round + 1) + ", " + std::to_string(current.inverted) +
-             " inverted hexes");
-    if (!moved) break;
-  }
-  if (current.inverted > 0 && options.move_boundary) {
-    // Stuck clusters: points whose hexes all hold each other in place. Let the boundary go
-    // and alternate smoothing sweeps (which move the valid neighbours) with untangling.
-    for (int attempt = 0; attempt < 8 && current.inverted > 0; ++attempt) {
+  // Untangling rounds on the surface first. Then, for stuck clusters (points whose hexes all
+  // hold each other in place), the boundary points of the hexes still inverted are let go,
+  // and from the second such attempt on a smoothing sweep moves the valid neighbours first.
+  for (int attempt = 0; attempt <= 8 && current.inverted > 0; ++attempt) {
+    if (attempt > 0) {
+      if (!options.move_boundary) break;
       result.released_boundary_points += smoother.release_boundary_of_inverted();
-      if (attempt > 0) smoother.smoothing_sweep();
-      for (int round = 0; round < kUntangleRounds && current.inverted > 0; ++round) {
-        const bool moved = smoother.untangle_round();
-        current = score_statistics(smoother.scores());
-        if (!moved) break;
-      }
+      if (attempt > 1) smoother.smoothing_sweep();
+    }
+    for (int round = 0; round < kUntangleRounds && current.inverted > 0; ++round) {
+      const bool moved = smoother.untangle_round();
+      current = score_statistics(smoother.scores());
+      if (options.progress)
+        status("hex smoothing: untangling round " + std::to_string(round + 1) + ", " +
+               std::to_string(current.inverted) + " inverted hexes");
+      if (!moved) break;
     }
   }
 

@@ -10,8 +10,13 @@
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
+#include <iterator>
+#include <limits>
 #include <string>
+#include <vector>
 
 namespace structmesh {
 
@@ -53,6 +58,19 @@ Vec3 barycentric(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
   }
   weights = weights.cwiseMax(0.0).cwiseMin(1.0);
   return weights / weights.sum();
+}
+
+// Barycentric coordinates of a line hit (a point of triangle abc's plane) from signed
+// sub-triangle areas, clamped to >= 0 and normalised. Equal to barycentric() up to rounding;
+// kept because the hex meshes measured in bench/results/hex.md were made with it, and the
+// smoothing of a few models (the screwdriver) is sensitive to that rounding.
+Vec3 hit_barycentric(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 n = (b - a).cross(c - a);
+  const double area = n.squaredNorm();
+  if (!(area > 0)) return Vec3(1, 0, 0);
+  const double u = (b - p).cross(c - p).dot(n) / area, v = (c - p).cross(a - p).dot(n) / area;
+  const Vec3 w = Vec3(u, v, 1 - u - v).cwiseMax(0.0);
+  return w / w.sum();
 }
 
 }  // namespace
@@ -98,6 +116,34 @@ Vec3 SurfaceProjection::closest_point(const Vec3& p, Index* triangle, Vec3* bary
     *barycentric_coordinates = barycentric(closest, c[0], c[1], c[2]);
   }
   return closest;
+}
+
+bool SurfaceProjection::nearest_on_line(const Vec3& p, const Vec3& direction, double reach, Vec3& hit, Index& triangle,
+                                        Vec3& barycentric_coordinates) const {
+  const Vec3 d = direction.normalized() * reach;
+  const Kernel::Segment_3 segment(to_cgal(p - d), to_cgal(p + d));
+  using Intersection = Tree::Intersection_and_primitive_id<Kernel::Segment_3>::Type;
+  std::vector<Intersection> hits;
+  impl_->tree.all_intersections(segment, std::back_inserter(hits));
+  double best = std::numeric_limits<double>::infinity();
+  for (const Intersection& h : hits) {
+    // A segment lying in a triangle's plane meets it in a segment: its ends count.
+    std::vector<Kernel::Point_3> candidates;
+    if (const auto* q = boost::get<Kernel::Point_3>(&h.first))
+      candidates.push_back(*q);
+    else if (const auto* s = boost::get<Kernel::Segment_3>(&h.first))
+      candidates.insert(candidates.end(), {s->source(), s->target()});
+    for (const auto& q : candidates)
+      if (const double distance = (to_vec(q) - p).squaredNorm(); distance < best) {
+        best = distance;
+        hit = to_vec(q);
+        triangle = static_cast<Index>(h.second - impl_->triangles.cbegin());
+      }
+  }
+  if (best == std::numeric_limits<double>::infinity()) return false;
+  const auto& c = impl_->corners[triangle];
+  barycentric_coordinates = hit_barycentric(hit, c[0], c[1], c[2]);
+  return true;
 }
 
 double SurfaceProjection::squared_distance(const Vec3& p) const {

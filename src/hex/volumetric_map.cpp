@@ -246,8 +246,20 @@ VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source
   }
   result.seconds_solve = seconds_since(start);
 
-  // --- 4. untangling of inverted tets (interior points only; the boundary is pinned).
+  // --- 4. untangling of inverted tets (interior points; boundary points only as a last resort).
   start = Clock::now();
+  // The tets' parameter volumes, measured once after each sweep and read by everything else.
+  std::vector<double> volume(tet_count);
+  auto measure = [&] {
+    std::size_t flipped = 0;
+    for (std::size_t t = 0; t < tet_count; ++t) {
+      volume[t] = tet_volume(result.parameter, tets.tets[t]);
+      if (!(volume[t] > 0)) ++flipped;
+    }
+    return flipped;
+  };
+  result.flipped_before_untangling = measure();
+  result.flipped = result.flipped_before_untangling;
   // beta_t, the least volume an untangled tet must have: 1% of its source volume scaled by
   // the ratio of the two solids' volumes (the map may shrink a region a hundredfold).
   std::vector<double> beta(tet_count);
@@ -255,18 +267,10 @@ VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source
   for (std::size_t t = 0; t < tet_count; ++t) {
     beta[t] = std::abs(tet_volume(tets.points, tets.tets[t]));
     source_total += beta[t];
-    target_total += tet_volume(result.parameter, tets.tets[t]);
+    target_total += volume[t];
   }
   const double volume_ratio = source_total > 0 && target_total > 0 ? target_total / source_total : 1.0;
   for (double& b : beta) b *= 0.01 * volume_ratio;
-  auto count_flipped = [&] {
-    std::size_t flipped = 0;
-    for (std::size_t t = 0; t < tet_count; ++t)
-      if (!(tet_volume(result.parameter, tets.tets[t]) > 0)) ++flipped;
-    return flipped;
-  };
-  result.flipped_before_untangling = count_flipped();
-  result.flipped = result.flipped_before_untangling;
   if (result.flipped > 0 && options.untangle_sweeps > 0) {
     const CompressedRows tets_of_point = build_vertex_elements(tets.tets, point_count);
     // The energy at x for `point`, and (if asked) the Gauss-Newton normal equations of the
@@ -303,7 +307,7 @@ VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source
     for (int sweep = 0; sweep < options.untangle_sweeps && result.flipped > 0; ++sweep) {
       std::fill(active.begin(), active.end(), 0);
       for (std::size_t t = 0; t < tet_count; ++t)
-        if (!(tet_volume(result.parameter, tets.tets[t]) > beta[t]))
+        if (!(volume[t] > beta[t]))
           for (Index v : tets.tets[t]) active[v] = 1;
       for (std::size_t v = 0; v < point_count; ++v) {
         if (!active[v] || (v < boundary_count && !released[v])) continue;
@@ -327,7 +331,7 @@ VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source
         }
       }
       const std::size_t flipped_before = result.flipped;
-      result.flipped = count_flipped();
+      result.flipped = measure();
       if (progress) progress->advance();
       // Stuck: no interior point alone can unfold what is left (the boundary faces around
       // it pin it where Q folds tightly). As a last resort the boundary points of the flipped
@@ -335,7 +339,7 @@ VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source
       // little there (the hex extraction puts boundary points on Q by itself).
       if (result.flipped >= flipped_before && ++stuck_sweeps >= 3) {
         for (std::size_t t = 0; t < tet_count; ++t)
-          if (!(tet_volume(result.parameter, tets.tets[t]) > 0))
+          if (!(volume[t] > 0))
             for (Index v : tets.tets[t])
               if (v < boundary_count && !released[v]) released[v] = 1, ++result.released_boundary_points;
         stuck_sweeps = 0;

@@ -113,13 +113,6 @@ void check_indices_and_coordinates(const TriMesh& surface) {
                          std::to_string(v) + " of " + std::to_string(surface.points.size()));
 }
 
-double mean_edge_length(const TriMesh& surface) {
-  double sum = 0;
-  for (const auto& t : surface.triangles)
-    for (int k = 0; k < 3; ++k) sum += (surface.points[t[(k + 1) % 3]] - surface.points[t[k]]).norm();
-  return sum / (3.0 * static_cast<double>(surface.triangles.size()));
-}
-
 // What the codes of terminatetetgen() mean (tetgen.h, the non-library branch prints them).
 [[noreturn]] void throw_tetgen_failure(int code) {
   const std::string prefix = "TetGen failed (code " + std::to_string(code) + "): ";
@@ -164,6 +157,13 @@ void dihedral_range(const std::array<Vec3, 4>& p, double& lo, double& hi) {
 }
 
 }  // namespace
+
+double mean_edge_length(const TriMesh& surface) {
+  double sum = 0;
+  for (const auto& t : surface.triangles)
+    for (int k = 0; k < 3; ++k) sum += (surface.points[t[(k + 1) % 3]] - surface.points[t[k]]).norm();
+  return surface.triangles.empty() ? 0 : sum / (3.0 * static_cast<double>(surface.triangles.size()));
+}
 
 double enclosed_volume(const TriMesh& surface) {
   // Divergence theorem, relative to the box centre for conditioning.
