@@ -148,6 +148,7 @@ Action add_polycube_command(CLI::App& command, const GlobalOptions& global) {
          {"grid", result.voxels.dims},
          {"voxels", result.voxels.count()},
          {"refinements", result.refinements},
+         {"deformation_retries", result.deformation_retries},
          {"well_composed_flips", result.well_composed_flips},
          {"topology",
           {{"input", topology_json(result.expected)},

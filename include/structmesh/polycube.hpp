@@ -287,6 +287,10 @@ struct PolycubeResult {
   VoxelTopology initial, final;         ///< of the voxel set after voxelization and after optimisation
   std::size_t well_composed_flips = 0;  ///< voxels make_well_composed() flipped
   int refinements = 0;                  ///< times the voxel size was halved to keep the topology
+  /// Times the pre-deformation was redone with half the rounds because no voxel size
+  /// kept the topology of the deformed surface Q (the deformation brought two parts of
+  /// the surface closer than a voxel, or made it touch itself).
+  int deformation_retries = 0;
   PolycubeOptimizationResult optimization;
   QuadMesh surface;                  ///< P = the boundary of the voxels (outward quads)
   std::vector<std::uint8_t> corner;  ///< per point of `surface`: a polycube corner

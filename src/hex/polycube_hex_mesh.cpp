@@ -29,11 +29,19 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
 namespace structmesh {
 namespace {
+
+// A number with 4 significant digits (std::to_string prints small sizes as 0.000000).
+std::string significant(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.4g", value);
+  return text;
+}
 
 using Clock = std::chrono::steady_clock;
 
@@ -134,7 +142,7 @@ HexResult polycube_hex_mesh(const TriMesh& surface, const HexOptions& options) {
   HexMesh grid = polycube_hex_grid(polycube.voxels, result.hex_size);
   if (grid.hexes.empty()) throw Error("hex: the polycube has no voxels");
   if (options.progress)
-    status("hex: grid of " + std::to_string(grid.hexes.size()) + " hexes (hex size " + std::to_string(result.hex_size) +
+    status("hex: grid of " + std::to_string(grid.hexes.size()) + " hexes (hex size " + significant(result.hex_size) +
            ")");
   timer.stop("hex grid");
 

@@ -11,6 +11,10 @@
 #include "structmesh/hex.hpp"
 #include "structmesh/progress.hpp"
 
+#include <cstdio>
+#include <cstdlib>
+#include "hex/untangle_hexes.hpp"
+
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 
@@ -60,6 +64,8 @@ constexpr double kMinimumGain = 1e-12;   // of the normalised worst determinant
 // the worst scaled Jacobian at 0.35, 1/16 reached 0.99 in as many sweeps).
 constexpr std::array<double, 5> kSmoothingSteps{1.0, 0.5, 0.25, 0.125, 0.0625};
 constexpr std::size_t kGrain = 256;
+// Joint untangling frees the points within this many hex rings of the inverted hexes.
+constexpr int kRegionRings = 4;
 
 // A determinant q(x) = q + g . (x - x0) around the point's position x0 (affine in x).
 struct Sample {
@@ -189,6 +195,7 @@ class Smoother {
       }
     }
     colour_points(movable);
+    movable_ = std::move(movable);
     score_.resize(mesh.hexes.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.hexes.size(), kGrain), [&](const auto& range) {
       for (std::size_t h = range.begin(); h != range.end(); ++h) score_[h] = hex_score(h);
@@ -273,6 +280,71 @@ class Smoother {
   Vec3 put_back(Index v, const Vec3& x) const { return boundary_[v] && !released_[v] ? project_(x) : x; }
 
  public:
+  // Joint untangling (untangle_hexes.cpp) of the points within kRegionRings hex rings of the
+  // inverted hexes: a fold whose points all hold each other in place (each single move
+  // lowers some determinant) needs them to move together. With `free_boundary`, boundary
+  // points of the region move too and stop being put back on the surface. The new
+  // placement is kept only if fewer hexes of the region are inverted, or as many with a
+  // larger worst score. Returns whether it was kept.
+  bool untangle_regions(bool free_boundary) {
+    const std::size_t n = mesh_.points.size();
+    std::vector<std::uint8_t> in_region(n, 0);
+    std::vector<Index> region;
+    double edge_sum = 0;
+    std::size_t edge_count = 0;
+    for (std::size_t h = 0; h < mesh_.hexes.size(); ++h) {
+      if (score_[h] > 0) continue;
+      const auto& c = mesh_.hexes[h];
+      for (int i = 0; i < 4; ++i) {
+        edge_sum += (mesh_.points[c[i]] - mesh_.points[c[(i + 1) % 4]]).norm() +
+                    (mesh_.points[c[i + 4]] - mesh_.points[c[(i + 1) % 4 + 4]]).norm() +
+                    (mesh_.points[c[i]] - mesh_.points[c[i + 4]]).norm();
+        edge_count += 3;
+      }
+      for (const Index v : c)
+        if (!in_region[v]) in_region[v] = 1, region.push_back(v);
+    }
+    if (region.empty() || !(edge_sum > 0)) return false;
+    for (int ring = 0; ring < kRegionRings; ++ring) {
+      const std::size_t end = region.size();
+      for (std::size_t k = 0; k < end; ++k)
+        for (const Index h : point_hexes_.row(region[k]))
+          for (const Index v : mesh_.hexes[h])
+            if (!in_region[v]) in_region[v] = 1, region.push_back(v);
+    }
+    std::vector<Index> free;
+    for (const Index v : region)
+      if (movable_[v] && (!boundary_[v] || released_[v] || free_boundary)) free.push_back(v);
+    std::vector<std::uint8_t> touched(mesh_.hexes.size(), 0);
+    std::vector<std::array<Index, 8>> hexes;
+    std::vector<Index> hex_ids;
+    for (const Index v : free)
+      for (const Index h : point_hexes_.row(v))
+        if (!touched[h]) touched[h] = 1, hex_ids.push_back(h), hexes.push_back(mesh_.hexes[h]);
+    const auto summary = [&] {
+      std::pair<std::size_t, double> inverted_and_min{0, std::numeric_limits<double>::infinity()};
+      for (const Index h : hex_ids) {
+        inverted_and_min.first += score_[h] <= 0 ? 1 : 0;
+        inverted_and_min.second = std::min(inverted_and_min.second, score_[h]);
+      }
+      return inverted_and_min;
+    };
+    const auto before = summary();
+    std::vector<Vec3> saved(free.size());
+    for (std::size_t k = 0; k < free.size(); ++k) saved[k] = mesh_.points[free[k]];
+    hex_detail::untangle_hexes(mesh_.points, hexes, free, edge_sum / static_cast<double>(edge_count));
+    for (const Index h : hex_ids) score_[h] = hex_score(h);
+    const auto after = summary();
+    if (after.first < before.first || (after.first == before.first && after.second > before.second)) {
+      for (const Index v : free)
+        if (boundary_[v]) released_[v] = 1;
+      return true;
+    }
+    for (std::size_t k = 0; k < free.size(); ++k) mesh_.points[free[k]] = saved[k];
+    for (const Index h : hex_ids) score_[h] = hex_score(h);
+    return false;
+  }
+
   // Boundary points of the hexes still inverted stop being put back on the surface: where
   // the surface folds tighter than a hex, no point on it unfolds the hex, and a valid mesh a
   // little off the surface there beats an inverted one on it. Returns how many were released.
@@ -407,6 +479,7 @@ class Smoother {
   std::vector<double> score_;                // Verdict scaled Jacobian per hex
   std::size_t feature_points_ = 0;
   std::vector<std::uint8_t> released_;  // boundary points no longer put back on the surface
+  std::vector<std::uint8_t> movable_;   // neither fixed boundary nor feature points
 };
 
 }  // namespace
@@ -453,6 +526,22 @@ HexSmoothingResult smooth_hex_mesh(HexMesh& mesh, const std::function<Vec3(const
                std::to_string(current.inverted) + " inverted hexes");
       if (!moved) break;
     }
+  }
+
+  // Folds the one-point moves leave: joint untangling of their regions, first with the
+  // boundary on the surface, then with it free, each followed by the one-point rounds.
+  for (const bool free_boundary : {false, true}) {
+    if (current.inverted == 0 || (free_boundary && !options.move_boundary)) break;
+    if (!smoother.untangle_regions(free_boundary)) continue;
+    current = score_statistics(smoother.scores());
+    for (int round = 0; round < kUntangleRounds && current.inverted > 0; ++round) {
+      const bool moved = smoother.untangle_round();
+      current = score_statistics(smoother.scores());
+      if (!moved) break;
+    }
+    if (options.progress)
+      status("hex smoothing: joint untangling" + std::string(free_boundary ? " with the boundary free" : "") + ", " +
+             std::to_string(current.inverted) + " inverted hexes");
   }
 
   std::optional<Progress> progress;

@@ -27,13 +27,54 @@ bool same_topology(const VoxelTopology& a, const VoxelTopology& b) {
   return a.components == b.components && a.handles == b.handles && a.voids == b.voids;
 }
 
+// Voxelizes Q at the Morse resolution of §4.4.1, halving the size (at most three
+// times) until make_well_composed succeeds and the voxels have the input's topology;
+// throws Error when no size does.
+void voxelize_keeping_topology(PolycubeResult& result, const PolycubeOptions& options) {
+  const TriMesh& q = result.pseudo.surface;
+  const BoundingBox3 box = q.bounding_box();
+  const double longest = (box.max - box.min).maxCoeff();
+  // The Morse resolution, but never coarser than 24 voxels along the longest side (a
+  // shape with few critical levels would otherwise be a handful of voxels) nor finer
+  // than max_resolution.
+  const double finest = longest / std::max(options.max_resolution, 2);
+  result.morse = morse_voxel_size(q, options.epsilon_ratio * box.diagonal(), longest / 24);
+  double size = options.voxel_size > 0 ? options.voxel_size : std::max(result.morse.size, finest);
+  // Refinement may go to twice max_resolution: the cap is for the first, Morse-chosen size.
+  for (;;) {
+    if (options.progress) status("polycube: voxelizing at size " + std::to_string(size));
+    result.voxels = voxelize(q, size);
+    std::string problem;
+    try {
+      result.well_composed_flips = make_well_composed(result.voxels);
+      result.initial = voxel_topology(result.voxels);
+      if (same_topology(result.initial, result.expected)) return;
+      problem = "the voxels have " + topology_text(result.initial) + ", the input " + topology_text(result.expected);
+    } catch (const Error& e) {
+      problem = e.what();
+    }
+    if (options.voxel_size > 0 || size / 2 < finest / 2 * 0.999 || result.refinements == 3)
+      throw Error("polycube: at voxel size " + std::to_string(size) + ": " + problem +
+                  (options.voxel_size > 0 ? "; try a smaller --voxel-size" : "; a finer grid would be needed"));
+    size /= 2;
+    ++result.refinements;
+  }
+}
+
 }  // namespace
 
 PolycubeResult build_polycube(const TriMesh& input, const PolycubeOptions& options) {
   PolycubeResult result;
   auto start = Clock::now();
+  // Stages that run more than once (a deformation retry) accumulate their time.
   const auto stage = [&](const char* name) {
-    result.stage_seconds.emplace_back(name, std::chrono::duration<double>(Clock::now() - start).count());
+    const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    const auto same = std::find_if(result.stage_seconds.begin(), result.stage_seconds.end(),
+                                   [&](const auto& entry) { return entry.first == name; });
+    if (same != result.stage_seconds.end())
+      same->second += seconds;
+    else
+      result.stage_seconds.emplace_back(name, seconds);
     start = Clock::now();
   };
   const SurfaceReport report = check_surface(to_bundle(input));
@@ -55,38 +96,29 @@ PolycubeResult build_polycube(const TriMesh& input, const PolycubeOptions& optio
   }
   PseudoPolycubeOptions deformation = options.deformation;
   deformation.progress = options.progress;
-  result.pseudo = pseudo_polycube(aligned, deformation);
-  stage("pre-deformation");
-
-  const TriMesh& q = result.pseudo.surface;
-  const BoundingBox3 box = q.bounding_box();
-  const double diagonal = box.diagonal();
-  const double longest = (box.max - box.min).maxCoeff();
-  // The Morse resolution, but never coarser than 24 voxels along the longest side (a
-  // shape with few critical levels would otherwise be a handful of voxels) nor finer
-  // than max_resolution.
-  const double finest = longest / std::max(options.max_resolution, 2);
-  result.morse = morse_voxel_size(q, options.epsilon_ratio * diagonal, longest / 24);
-  double size = options.voxel_size > 0 ? options.voxel_size : std::max(result.morse.size, finest);
-  // Refinement may go to twice max_resolution: the cap is for the first, Morse-chosen size.
   for (;;) {
-    if (options.progress) status("polycube: voxelizing at size " + std::to_string(size));
-    result.voxels = voxelize(q, size);
-    std::string problem;
+    result.pseudo = pseudo_polycube(aligned, deformation);
+    stage("pre-deformation");
     try {
-      result.well_composed_flips = make_well_composed(result.voxels);
-      result.initial = voxel_topology(result.voxels);
-      if (same_topology(result.initial, result.expected)) break;
-      problem = "the voxels have " + topology_text(result.initial) + ", the input " + topology_text(result.expected);
+      voxelize_keeping_topology(result, options);
+      break;
     } catch (const Error& e) {
-      problem = e.what();
+      stage("voxelization");
+      // The deformation can bring two parts of the surface within a voxel of each other
+      // (fertility's arms, the kitten's tail): no voxel size the cap allows then keeps
+      // the topology. A shorter deformation leaves them apart, at the price of more
+      // corners; the undeformed input is the last resort.
+      if (options.voxel_size > 0 || result.pseudo.iterations == 0) throw;
+      deformation.max_iterations = result.pseudo.iterations / 2;
+      ++result.deformation_retries;
+      result.refinements = 0;
+      if (options.progress)
+        status(std::string(e.what()) + "; redoing the pre-deformation with " +
+               std::to_string(deformation.max_iterations) + " rounds");
     }
-    if (options.voxel_size > 0 || size / 2 < finest / 2 * 0.999 || result.refinements == 3)
-      throw Error("polycube: at voxel size " + std::to_string(size) + ": " + problem +
-                  (options.voxel_size > 0 ? "; try a smaller --voxel-size" : "; a finer grid would be needed"));
-    size /= 2;
-    ++result.refinements;
   }
+  const TriMesh& q = result.pseudo.surface;
+  const double diagonal = q.bounding_box().diagonal();
   stage("voxelization");
 
   // E_g in units of the diagonal (Table 4.1's E_g are a few units at alpha = 20): a

@@ -1,0 +1,28 @@
+// untangle_hexes(): joint untangling of a region of a hex mesh, for the folds that moving
+// one point at a time cannot undo (smooth_hex_mesh.cpp).
+#pragma once
+
+#include "structmesh/mesh.hpp"
+
+#include <array>
+#include <span>
+#include <vector>
+
+namespace structmesh::hex_detail {
+
+struct HexUntangleResult {
+  double min_det_before = 0;  ///< smallest corner determinant over the hexes involved, / size^3
+  double min_det_after = 0;
+  int outer_iterations = 0;
+};
+
+/// Moves the points `free` of the hexes (VTK order) jointly so that every corner
+/// determinant of the hexes that use them turns positive, by the continuation method of
+/// Garanzha et al. 2021 on the eight corner tets of each hex; `size` is the edge length
+/// the Jacobians are measured against. The other points stay. Returns the smallest corner
+/// determinant (over size^3) before and after; `points` gets the placement with the
+/// largest smallest determinant seen.
+HexUntangleResult untangle_hexes(std::vector<Vec3>& points, std::span<const std::array<Index, 8>> hexes,
+                                 std::span<const Index> free, double size, int max_steps = 30);
+
+}  // namespace structmesh::hex_detail

@@ -1,0 +1,64 @@
+// untangle_hexes (joint untangling): a grid whose interior is turned inside out comes back
+// valid with its fixed points where they were, and error-free degenerate calls.
+#include "hex/untangle_hexes.hpp"
+#include "quality/test_meshes.hpp"
+#include "structmesh/hex.hpp"
+#include "structmesh/quality.hpp"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+namespace structmesh {
+namespace {
+
+std::size_t inverted_hexes(const HexMesh& mesh) {
+  std::size_t inverted = 0;
+  for (const auto& h : mesh.hexes) {
+    std::array<Vec3, 8> p;
+    for (int i = 0; i < 8; ++i) p[i] = mesh.points[h[i]];
+    const std::optional<double> sj = hex_scaled_jacobian(p);
+    inverted += !sj || *sj <= 0 ? 1 : 0;
+  }
+  return inverted;
+}
+
+// A 4x4x4 unit grid whose 27 interior points are mirrored through the plane x = 2: every
+// hex touching the x = 0 or x = 4 side is inverted, and no single interior point can be
+// moved back on its own without inverting others.
+TEST(UntangleHexes, MirroredInteriorComesBackValid) {
+  HexMesh mesh = test::hex_grid(4, 4, 4);
+  std::vector<Index> interior;
+  for (std::size_t v = 0; v < mesh.points.size(); ++v) {
+    const Vec3& p = mesh.points[v];
+    if (p.minCoeff() > 0.5 && p.maxCoeff() < 3.5) interior.push_back(static_cast<Index>(v));
+  }
+  ASSERT_EQ(interior.size(), 27u);
+  for (const Index v : interior) mesh.points[v].x() = 4 - mesh.points[v].x() + 0.3;
+  const std::vector<Vec3> before = mesh.points;
+  ASSERT_GT(inverted_hexes(mesh), 10u);
+
+  const hex_detail::HexUntangleResult result = hex_detail::untangle_hexes(mesh.points, mesh.hexes, interior, 1.0);
+  EXPECT_LT(result.min_det_before, 0);
+  EXPECT_GT(result.min_det_after, 0);
+  EXPECT_EQ(inverted_hexes(mesh), 0u);
+  std::vector<std::uint8_t> is_free(mesh.points.size(), 0);
+  for (const Index v : interior) is_free[v] = 1;
+  for (std::size_t v = 0; v < mesh.points.size(); ++v)
+    if (!is_free[v]) {
+      EXPECT_EQ(mesh.points[v], before[v]) << v;
+    }
+}
+
+TEST(UntangleHexes, NothingFreeOrZeroSizeLeavesThePointsAlone) {
+  HexMesh mesh = test::hex_grid(2, 2, 2);
+  const std::vector<Vec3> before = mesh.points;
+  const std::vector<Index> none;
+  EXPECT_EQ(hex_detail::untangle_hexes(mesh.points, mesh.hexes, none, 1.0).outer_iterations, 0);
+  const std::vector<Index> centre{13};
+  EXPECT_EQ(hex_detail::untangle_hexes(mesh.points, mesh.hexes, centre, 0.0).outer_iterations, 0);
+  EXPECT_EQ(mesh.points, before);
+}
+
+}  // namespace
+}  // namespace structmesh
