@@ -80,10 +80,21 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   command
+      .add_option("--max-hexes", settings->options.max_hexes,
+                  "Fail rather than build a grid of more hexes (a polycube with thousands of corners)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  command
       .add_option("--max-resolution", settings->options.polycube.max_resolution,
                   "At most this many voxels along the polycube's longest side")
       ->capture_default_str()
       ->check(CLI::Range(4, 2000));
+  command
+      .add_option("--merge-planes", settings->options.polycube.merge_planes_within,
+                  "Move polycube facets by up to this many voxels onto planes other facets use: fewer planes, "
+                  "fewer thin hex layers (0: off)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 10));
   command
       .add_option("--tet-size", settings->options.tet_size,
                   "Tet edge length of the map's tet mesh (0: the surface's mean edge length)")
@@ -189,7 +200,10 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
                    {"corners", result.polycube.optimization.after.corners},
                    {"handles", result.polycube.final.handles},
                    {"deformation_rounds", result.polycube.pseudo.iterations},
-                   {"deformation_retries", result.polycube.deformation_retries}}},
+                   {"deformation_retries", result.polycube.deformation_retries},
+                   {"facet_planes", result.polycube.plane_merge.planes_after},
+                   {"merged_planes_retried", result.merging_retried},
+                   {"unmerged_kept", result.unmerged_kept}}},
                  {"map",
                   {{"tets", result.tets.tets.size()},
                    {"flipped_before_untangling", result.map.flipped_before_untangling},

@@ -63,6 +63,12 @@ Action add_polycube_command(CLI::App& command, const GlobalOptions& global) {
                   "Largest radius of the moving window of the optimisation (down to 1; 0: no optimisation)")
       ->capture_default_str()
       ->check(CLI::Range(0, 20));
+  command
+      .add_option("--merge-planes", settings->options.merge_planes_within,
+                  "Move facets by up to this many voxels onto planes other facets use, so fewer distinct planes "
+                  "remain (0: off)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 10));
   command.add_option("--voxel-size", settings->options.voxel_size, "Voxel edge (0: the Morse resolution of §4.4.1)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
@@ -149,6 +155,11 @@ Action add_polycube_command(CLI::App& command, const GlobalOptions& global) {
          {"voxels", result.voxels.count()},
          {"refinements", result.refinements},
          {"deformation_retries", result.deformation_retries},
+         {"plane_merge",
+          {{"planes_before", result.plane_merge.planes_before},
+           {"planes_after", result.plane_merge.planes_after},
+           {"removed", result.plane_merge.removed},
+           {"flips", result.plane_merge.flips}}},
          {"well_composed_flips", result.well_composed_flips},
          {"topology",
           {{"input", topology_json(result.expected)},

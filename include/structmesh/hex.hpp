@@ -50,6 +50,7 @@ HexMesh pillow(const HexMesh& mesh, double depth, std::vector<Index>* copied_fro
                std::vector<std::uint8_t>* is_outer = nullptr);
 
 /// Closest points and line hits on a triangle surface (one CGAL AABB tree; thread-safe queries).
+/// Degenerate triangles are left out; the triangle indices returned are the surface's.
 class SurfaceProjection {
  public:
   explicit SurfaceProjection(const TriMesh& surface);
@@ -115,6 +116,10 @@ std::size_t split_boundary_tets(TetMesh& tets, std::size_t boundary_points);
 struct VolumetricMapOptions {
   int frame_smoothing_iterations = 0;  ///< 0: a direct sparse solve of the frames' smoothness
   int untangle_sweeps = 100;           ///< at most this many sweeps of local untangling
+  /// Where boundary point i goes, when not empty (one per boundary point): the polycube
+  /// P's points nearest to Q's, so the parameter domain is P's solid (§5.2.1). The frames
+  /// still come from boundary_target's triangles, which projection onto P can fold.
+  std::vector<Vec3> boundary_positions;
   bool progress = false;
 };
 
@@ -147,6 +152,13 @@ struct HexOptions {
   bool features = false;         ///< keep sharp edges and corners (--features; 30 degrees)
   double padding_depth = 0.3;    ///< the pillow layer's depth, share of the mean boundary edge
   double tet_size = 0;           ///< tet edge length of the map's mesh (0: the surface's mean edge)
+  /// Refuse (Error) a grid of more hexes than this, padding included: a polycube with
+  /// thousands of corners has a coarsest grid far above any target (one layer per slab
+  /// between facet planes), and meshing it would run for long and end out of memory.
+  std::size_t max_hexes = 4'000'000;
+  /// When the mesh made on the merged-plane polycube keeps an inverted hex, make it again
+  /// with merge_planes_within = 0 and keep the better (fewer inverted, then larger minimum).
+  bool retry_without_merging = true;
   HexSmoothingOptions smoothing;
   bool progress = false;
 };
@@ -164,6 +176,8 @@ struct HexResult {
   HexSmoothingResult smoothing;
   HexQuality quality;
   double geometric_deviation = 0;  ///< D_g: Hausdorff(hex boundary, input) / input diagonal
+  bool merging_retried = false;    ///< the first mesh had inverted hexes and was made again unmerged
+  bool unmerged_kept = false;      ///< ... and the unmerged one was better, so this is it
   std::vector<std::pair<std::string, double>> stage_seconds;
 };
 

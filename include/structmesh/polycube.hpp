@@ -267,6 +267,20 @@ PolycubeOptimizationResult optimize_polycube(VoxelGrid& grid, std::span<const do
 /// this way (the caller then refines the grid).
 std::size_t make_well_composed(VoxelGrid& grid);
 
+struct PlaneMergeResult {
+  std::array<std::size_t, 3> planes_before{}, planes_after{};  ///< distinct facet planes per axis
+  std::size_t removed = 0;                                     ///< planes emptied
+  std::size_t flips = 0;                                       ///< voxels flipped and kept
+};
+
+/// Fewer distinct facet planes: every facet of a plane moves onto the nearest plane within
+/// `max_shift` voxels that other facets already use, by simple-voxel flips layer by layer;
+/// a plane's moves are kept only if the plane is gone, no new plane appeared and the voxels
+/// are still well-composed (merge_facet_planes.cpp). The topology is kept. The hex grid of
+/// chapter 5 takes at least one layer per slab between planes, so this is what brings its
+/// hex count near the one asked for. max_shift 0 does nothing.
+PlaneMergeResult merge_facet_planes(VoxelGrid& grid, int max_shift = 2, bool progress = false);
+
 struct PolycubeOptions {
   bool align = true;                  ///< principal-axes pre-alignment (§4.3)
   PseudoPolycubeOptions deformation;  ///< pre-deformation (§4.3)
@@ -275,6 +289,9 @@ struct PolycubeOptions {
   int max_resolution =
       160;  ///< the first size: at most this many voxels along the longest axis (refinements may double it)
   PolycubeOptimizationOptions optimization;
+  /// After the optimisation, facets move by up to this many voxels onto planes other facets
+  /// use (merge_facet_planes; 0: off).
+  int merge_planes_within = 2;
   bool progress = false;
 };
 
@@ -291,7 +308,9 @@ struct PolycubeResult {
   /// kept the topology of the deformed surface Q (the deformation brought two parts of
   /// the surface closer than a voxel, or made it touch itself).
   int deformation_retries = 0;
-  PolycubeOptimizationResult optimization;
+  PolycubeOptimizationResult optimization;  ///< its `after` energy includes the plane merging
+  PolycubeEnergy before_merge;              ///< the optimisation's own result, before plane merging
+  PlaneMergeResult plane_merge;
   QuadMesh surface;                  ///< P = the boundary of the voxels (outward quads)
   std::vector<std::uint8_t> corner;  ///< per point of `surface`: a polycube corner
   std::vector<std::pair<std::string, double>> stage_seconds;

@@ -93,9 +93,9 @@ TriMesh triangulated_boundary(const HexMesh& mesh) {
 
 }  // namespace
 
-HexResult polycube_hex_mesh(const TriMesh& surface, const HexOptions& options) {
-  if (options.size < 0 || !std::isfinite(options.size))
-    throw InputError("hex: --size must be a finite length >= 0, got " + std::to_string(options.size));
+namespace {
+
+HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& options) {
   HexResult result;
   StageTimer timer(result.stage_seconds);
 
@@ -121,6 +121,13 @@ HexResult polycube_hex_mesh(const TriMesh& surface, const HexOptions& options) {
   // the surface's own resolution at the boundary). A finer default cost the bunny 3.4M tets
   // and two minutes of solving for 80k hexes.
   const PolycubeGridCount grid_count = polycube_hex_count(polycube.voxels, result.hex_size);
+  if (const std::size_t planned = grid_count.hexes + (options.padding ? grid_count.boundary_quads : 0);
+      planned > options.max_hexes)
+    throw Error("hex: the grid would have " + std::to_string(planned) + " hexes, more than the limit of " +
+                std::to_string(options.max_hexes) + " (--max-hexes): the polycube has " +
+                std::to_string(polycube.optimization.after.corners) +
+                " corners and every slab between its facet planes takes at least one layer; a smaller "
+                "--max-resolution gives a coarser polycube");
   const double mean_hex =
       std::cbrt(enclosed_volume(aligned) / static_cast<double>(std::max<std::size_t>(grid_count.hexes, 1)));
   tet_options.size = options.tet_size > 0 ? options.tet_size : std::max(mean_edge_length(aligned), mean_hex);
@@ -135,6 +142,44 @@ HexResult polycube_hex_mesh(const TriMesh& surface, const HexOptions& options) {
     status("hex: volumetric map of " + std::to_string(result.tets.tets.size()) + " tets (frames, (5.1), untangling)");
   VolumetricMapOptions map_options;
   map_options.progress = options.progress;
+  // The boundary goes onto P itself (§5.2.1's projection of Q onto P; the map's untangling
+  // is the relaxation): P differs from Q by the optimisation's and the plane merging's
+  // moves, up to a few voxels, and with Q as the domain the grid points of P outside Q
+  // were all put on the surface, folding whole layers.
+  TriMesh on_p;  // Q's triangles on P's points nearest to Q's
+  {
+    TriMesh p_triangles;
+    p_triangles.points = polycube.surface.points;
+    for (const auto& q : polycube.surface.quads) {
+      p_triangles.triangles.push_back({q[0], q[1], q[2]});
+      p_triangles.triangles.push_back({q[0], q[2], q[3]});
+    }
+    const SurfaceProjection onto_p(p_triangles);
+    const TriMesh& q = polycube.pseudo.surface;
+    on_p.triangles = q.triangles;
+    on_p.points.resize(q.points.size());
+    // Each point of Q moves along the axes of its triangles' labels (a point inside a +X
+    // chart along x only, one on a chart border along the sum of both axes), as §5.2.1
+    // projects along normals: the closest point alone sent points across P's edges onto
+    // the wrong facet and folded the map (fertility: 4,497 flipped tets before untangling).
+    std::vector<std::uint8_t> labels_of(q.points.size(), 0);
+    for (std::size_t t = 0; t < q.triangles.size(); ++t)
+      for (const Index v : q.triangles[t]) labels_of[v] |= static_cast<std::uint8_t>(1u << polycube.pseudo.labels[t]);
+    const double reach = 4 * polycube.voxels.size;
+    tbb::parallel_for(std::size_t{0}, on_p.points.size(), [&](std::size_t v) {
+      const Vec3& point = q.points[v];
+      Vec3 direction = Vec3::Zero();
+      for (int label = 0; label < kAxisLabels; ++label)
+        if (labels_of[v] & (1u << label)) direction += axis_of_label(label);
+      Vec3 hit, barycentric;
+      Index triangle = 0;
+      if (direction.squaredNorm() > 0 && onto_p.nearest_on_line(point, direction, reach, hit, triangle, barycentric))
+        on_p.points[v] = hit;
+      else
+        on_p.points[v] = onto_p.closest_point(point);
+    });
+    if (options.polycube.merge_planes_within > 0) map_options.boundary_positions = on_p.points;
+  }
   result.map = volumetric_map(result.tets, aligned, polycube.pseudo.surface, map_options);
   result.parameter = result.map.parameter;
   timer.stop("volumetric map");
@@ -158,7 +203,7 @@ HexResult polycube_hex_mesh(const TriMesh& surface, const HexOptions& options) {
     const int label = nearest_axis_label(normal);
     for (Index v : q) axes_of[v] |= static_cast<std::uint8_t>(1u << label);
   }
-  const SurfaceProjection onto_q(polycube.pseudo.surface);
+  const SurfaceProjection onto_q(options.polycube.merge_planes_within > 0 ? on_p : polycube.pseudo.surface);
   const hex_detail::TetLocator locator(result.parameter, result.tets.tets);
   const double voxel = polycube.voxels.size;
   std::vector<Vec3> mapped(grid.points.size());
@@ -240,6 +285,46 @@ HexResult polycube_hex_mesh(const TriMesh& surface, const HexOptions& options) {
   result.quality = hex_quality(result.mesh);
   result.geometric_deviation = hausdorff_distance(surface, triangulated_boundary(result.mesh)).relative;
   timer.stop("quality");
+  return result;
+}
+
+}  // namespace
+
+HexResult polycube_hex_mesh(const TriMesh& surface, const HexOptions& options) {
+  if (options.size < 0 || !std::isfinite(options.size))
+    throw InputError("hex: --size must be a finite length >= 0, got " + std::to_string(options.size));
+  HexResult result = polycube_hex_mesh_once(surface, options);
+  // Plane merging moves P away from Q by up to two voxels, and the map onto P that this
+  // needs folds where Q's charts do not match P's facets (fertility: 40 tets stay flipped,
+  // 39 hexes inverted). A valid mesh comes first: then the polycube is rebuilt without
+  // merging (P within a voxel of Q, the map onto Q), and the better of the two is kept.
+  if (result.quality.inverted + result.quality.invalid == 0 || options.polycube.merge_planes_within <= 0 ||
+      !options.retry_without_merging)
+    return result;
+  if (options.progress)
+    status("hex: " + std::to_string(result.quality.inverted) +
+           " hexes inverted; again with the polycube's facet planes unmerged");
+  HexOptions unmerged = options;
+  unmerged.polycube.merge_planes_within = 0;
+  HexResult second = polycube_hex_mesh_once(surface, unmerged);
+  const auto bad = [](const HexResult& r) { return r.quality.inverted + r.quality.invalid; };
+  const bool better = bad(second) < bad(result) ||
+                      (bad(second) == bad(result) &&
+                       second.quality.scaled_jacobian_stats.min > result.quality.scaled_jacobian_stats.min);
+  std::vector<std::pair<std::string, double>> first_stages = std::move(result.stage_seconds);
+  if (better) {
+    result = std::move(second);
+    result.merging_retried = true;
+  } else {
+    result.merging_retried = true;
+    result.stage_seconds = std::move(second.stage_seconds);
+  }
+  // The report's stage times cover both attempts.
+  double first_total = 0;
+  for (const auto& [name, seconds] : first_stages)
+    first_total += name.find("(total)") == std::string::npos ? seconds : 0;
+  result.stage_seconds.insert(result.stage_seconds.begin(), {"first attempt (planes merged)", first_total});
+  result.unmerged_kept = better;
   return result;
 }
 

@@ -66,6 +66,8 @@ constexpr std::array<double, 5> kSmoothingSteps{1.0, 0.5, 0.25, 0.125, 0.0625};
 constexpr std::size_t kGrain = 256;
 // Joint untangling frees the points within this many hex rings of the inverted hexes.
 constexpr int kRegionRings = 4;
+// ... and refuses a placement that moves a point by more than this many mean edge lengths.
+constexpr double kMaxJointMove = 6.0;
 
 // A determinant q(x) = q + g . (x - x0) around the point's position x0 (affine in x).
 struct Sample {
@@ -168,8 +170,13 @@ class Smoother {
     surface_neighbours_ = surface_neighbours(quads, n);
     boundary_.assign(n, 0);
     released_.assign(n, 0);
+    double edge_sum = 0;
     for (const auto& q : quads)
-      for (const Index v : q) boundary_[v] = 1;
+      for (int i = 0; i < 4; ++i) {
+        boundary_[q[i]] = 1;
+        edge_sum += (mesh.points[q[i]] - mesh.points[q[(i + 1) % 4]]).norm();
+      }
+    release_limit_ = quads.empty() ? 0 : edge_sum / (4.0 * static_cast<double>(quads.size()));
     std::vector<std::uint8_t> movable(n, 0);
     for (std::size_t v = 0; v < n; ++v) movable[v] = !point_hexes_.row(v).empty() && (move_boundary || !boundary_[v]);
     // Feature points (§4.5.3): where two boundary quads around a point meet at more than
@@ -277,7 +284,16 @@ class Smoother {
     }
   }
 
-  Vec3 put_back(Index v, const Vec3& x) const { return boundary_[v] && !released_[v] ? project_(x) : x; }
+  // A boundary point goes back onto the surface; a released one may stay off it, but by at
+  // most one mean boundary edge (released points drifted away unbounded on the screwdriver).
+  Vec3 put_back(Index v, const Vec3& x) const {
+    if (!boundary_[v]) return x;
+    const Vec3 on_surface = project_(x);
+    if (!released_[v]) return on_surface;
+    const Vec3 offset = x - on_surface;
+    const double distance = offset.norm();
+    return distance <= release_limit_ ? x : Vec3(on_surface + offset * (release_limit_ / distance));
+  }
 
  public:
   // Joint untangling (untangle_hexes.cpp) of the points within kRegionRings hex rings of the
@@ -332,12 +348,19 @@ class Smoother {
     const auto before = summary();
     std::vector<Vec3> saved(free.size());
     for (std::size_t k = 0; k < free.size(); ++k) saved[k] = mesh_.points[free[k]];
-    hex_detail::untangle_hexes(mesh_.points, hexes, free, edge_sum / static_cast<double>(edge_count));
+    const double size = edge_sum / static_cast<double>(edge_count);
+    hex_detail::untangle_hexes(mesh_.points, hexes, free, size);
     for (const Index h : hex_ids) score_[h] = hex_score(h);
     const auto after = summary();
-    if (after.first < before.first || (after.first == before.first && after.second > before.second)) {
+    // The barrier keeps the hexes positive, not the points near the surface: with the
+    // boundary free a region can swell away (the screwdriver's tip flew off by hundreds of
+    // sizes). A placement that moves a point by more than kMaxJointMove sizes is refused.
+    double moved = 0;
+    for (std::size_t k = 0; k < free.size(); ++k) moved = std::max(moved, (mesh_.points[free[k]] - saved[k]).norm());
+    if (moved <= kMaxJointMove * size &&
+        (after.first < before.first || (after.first == before.first && after.second > before.second))) {
       for (const Index v : free)
-        if (boundary_[v]) released_[v] = 1;
+        if (boundary_[v]) released_[v] = 1, any_released_ = true;
       return true;
     }
     for (std::size_t k = 0; k < free.size(); ++k) mesh_.points[free[k]] = saved[k];
@@ -355,6 +378,7 @@ class Smoother {
       if (score_[h] <= 0)
         for (const Index v : mesh_.hexes[h])
           if (boundary_[v] && !released_[v]) released_[v] = 1, ++released;
+    any_released_ = any_released_ || released > 0;
     return released;
   }
 
@@ -385,6 +409,16 @@ class Smoother {
       for (const Sample& s : samples) smallest = std::min(smallest, s.q + s.g.dot(x - start));
       return smallest;
     };
+    // Once boundary points are released, raising the worst sample must not turn a positive
+    // one negative: a fold was pushed into its valid neighbours, and that cascaded on the
+    // bunny from 25 inverted hexes to 50,000. Before, the freedom to do so is what untangles
+    // most folds (fertility: 1 inverted hex left with it, 88 without).
+    const auto inverts_a_positive_sample = [&](const Vec3& x) {
+      if (!any_released_) return false;
+      for (const Sample& s : samples)
+        if (s.q > 0 && s.q + s.g.dot(x - start) <= 0) return true;
+      return false;
+    };
     Vec3 position = start;
     double current = worst(position);
     bool moved = false;
@@ -410,7 +444,7 @@ class Smoother {
       for (int halving = 0; halving <= kLineSearchHalvings && !accepted; ++halving, t *= 0.5) {
         const Vec3 candidate = put_back(v, position + t * direction);
         const double value = worst(candidate);
-        if (value > current + kMinimumGain) {
+        if (value > current + kMinimumGain && !inverts_a_positive_sample(candidate)) {
           position = candidate;
           current = value;
           accepted = true;
@@ -480,6 +514,8 @@ class Smoother {
   std::size_t feature_points_ = 0;
   std::vector<std::uint8_t> released_;  // boundary points no longer put back on the surface
   std::vector<std::uint8_t> movable_;   // neither fixed boundary nor feature points
+  double release_limit_ = 0;            // how far a released point may leave the surface
+  bool any_released_ = false;
 };
 
 }  // namespace

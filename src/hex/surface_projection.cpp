@@ -78,6 +78,7 @@ Vec3 hit_barycentric(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c)
 struct SurfaceProjection::Impl {
   std::vector<Triangle> triangles;  // the tree's primitives point into this vector
   std::vector<std::array<Vec3, 3>> corners;
+  std::vector<Index> original;  // the surface's index of each kept triangle
   Tree tree;
 };
 
@@ -94,9 +95,16 @@ SurfaceProjection::SurfaceProjection(const TriMesh& surface) : impl_(std::make_u
                          " of " + std::to_string(surface.points.size()));
       corner[i] = surface.points[v];
     }
+    // A degenerate (collinear) triangle is left out: it adds no point its neighbours do not
+    // have, and CGAL's segment-triangle intersection asserts on it. The input surfaces have
+    // none (check_surface rejects them), but Q projected onto the polycube has many.
+    const Triangle triangle(to_cgal(corner[0]), to_cgal(corner[1]), to_cgal(corner[2]));
+    if (triangle.is_degenerate()) continue;
     impl_->corners.push_back(corner);
-    impl_->triangles.emplace_back(to_cgal(corner[0]), to_cgal(corner[1]), to_cgal(corner[2]));
+    impl_->original.push_back(static_cast<Index>(t));
+    impl_->triangles.push_back(triangle);
   }
+  if (impl_->triangles.empty()) throw InputError("SurfaceProjection: every triangle of the surface is degenerate");
   impl_->tree.insert(impl_->triangles.cbegin(), impl_->triangles.cend());
   impl_->tree.build();
   impl_->tree.accelerate_distance_queries();
@@ -110,7 +118,7 @@ Vec3 SurfaceProjection::closest_point(const Vec3& p, Index* triangle, Vec3* bary
   const auto [point, primitive] = impl_->tree.closest_point_and_primitive(to_cgal(p));
   const Vec3 closest = to_vec(point);
   const auto t = static_cast<std::size_t>(primitive - impl_->triangles.cbegin());
-  if (triangle) *triangle = static_cast<Index>(t);
+  if (triangle) *triangle = impl_->original[t];
   if (barycentric_coordinates) {
     const auto& c = impl_->corners[t];
     *barycentric_coordinates = barycentric(closest, c[0], c[1], c[2]);
@@ -126,6 +134,7 @@ bool SurfaceProjection::nearest_on_line(const Vec3& p, const Vec3& direction, do
   std::vector<Intersection> hits;
   impl_->tree.all_intersections(segment, std::back_inserter(hits));
   double best = std::numeric_limits<double>::infinity();
+  std::size_t kept = 0;
   for (const Intersection& h : hits) {
     // A segment lying in a triangle's plane meets it in a segment: its ends count.
     std::vector<Kernel::Point_3> candidates;
@@ -137,11 +146,12 @@ bool SurfaceProjection::nearest_on_line(const Vec3& p, const Vec3& direction, do
       if (const double distance = (to_vec(q) - p).squaredNorm(); distance < best) {
         best = distance;
         hit = to_vec(q);
-        triangle = static_cast<Index>(h.second - impl_->triangles.cbegin());
+        kept = static_cast<std::size_t>(h.second - impl_->triangles.cbegin());
       }
   }
   if (best == std::numeric_limits<double>::infinity()) return false;
-  const auto& c = impl_->corners[triangle];
+  triangle = impl_->original[kept];
+  const auto& c = impl_->corners[kept];
   barycentric_coordinates = hit_barycentric(hit, c[0], c[1], c[2]);
   return true;
 }

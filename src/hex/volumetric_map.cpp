@@ -99,6 +99,9 @@ double tet_volume(const std::vector<Vec3>& points, const std::array<Index, 4>& t
 VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source, const TriMesh& boundary_target,
                              const VolumetricMapOptions& options) {
   const std::size_t boundary_count = boundary_source.points.size();
+  if (!options.boundary_positions.empty() && options.boundary_positions.size() != boundary_count)
+    throw InputError("volumetric_map: " + std::to_string(options.boundary_positions.size()) +
+                     " boundary positions for " + std::to_string(boundary_count) + " boundary points");
   if (boundary_target.points.size() != boundary_count || boundary_target.triangles != boundary_source.triangles)
     throw InputError("volumetric_map: the source and target surfaces must share their triangles (" +
                      std::to_string(boundary_count) + " and " + std::to_string(boundary_target.points.size()) +
@@ -199,7 +202,9 @@ VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source
   std::size_t unknowns = 0;
   for (std::size_t i = boundary_count; i < point_count; ++i) unknown_of_point[i] = static_cast<Index>(unknowns++);
   result.parameter.assign(point_count, Vec3::Zero());
-  for (std::size_t i = 0; i < boundary_count; ++i) result.parameter[i] = boundary_target.points[i];
+  const std::vector<Vec3>& positions =
+      options.boundary_positions.empty() ? boundary_target.points : options.boundary_positions;
+  for (std::size_t i = 0; i < boundary_count; ++i) result.parameter[i] = positions[i];
   if (unknowns > 0) {
     std::vector<Eigen::Triplet<double>> entries;
     entries.reserve(tet_count * 16);

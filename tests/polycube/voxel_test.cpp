@@ -926,3 +926,92 @@ TEST(OptimizePolycube, RejectsBadOptions) {
   bad[5] = std::numeric_limits<double>::infinity();
   EXPECT_THROW(optimize_polycube(grid, bad), InputError);
 }
+
+// ---------------------------------------------------------------------------
+// merge_facet_planes
+
+namespace {
+
+std::size_t count_facet_planes(const VoxelGrid& grid, int axis) {
+  std::size_t planes = 0;
+  for (int w = 0; w <= grid.dims[axis]; ++w) {
+    bool facet = false;
+    for (int v = 0; v < grid.dims[(axis + 2) % 3] && !facet; ++v)
+      for (int u = 0; u < grid.dims[(axis + 1) % 3] && !facet; ++u) {
+        Triple above{}, below{};
+        above[axis] = w, above[(axis + 1) % 3] = u, above[(axis + 2) % 3] = v;
+        below = above;
+        --below[axis];
+        facet = grid.at(above[0], above[1], above[2]) != grid.at(below[0], below[1], below[2]);
+      }
+    planes += facet ? 1 : 0;
+  }
+  return planes;
+}
+
+// A 12 x 12 x 6 block with a step of `height` voxels on the half x >= 8.
+VoxelGrid stepped_block(int height) {
+  VoxelGrid grid = make_grid(16, 16, 14);
+  fill(grid, {2, 2, 2}, {14, 14, 8});
+  fill(grid, {8, 2, 8}, {14, 14, 8 + height});
+  return grid;
+}
+
+}  // namespace
+
+TEST(MergeFacetPlanes, AOneVoxelStepMovesOntoTheNeighbouringPlane) {
+  VoxelGrid grid = stepped_block(1);
+  const std::size_t voxels = grid.count();
+  ASSERT_EQ(count_facet_planes(grid, 0), 3u);  // x = 2, 8 (the step's side), 14
+  ASSERT_EQ(count_facet_planes(grid, 2), 3u);  // z = 2, 8, 9
+  const PlaneMergeResult result = merge_facet_planes(grid, 2);
+  EXPECT_EQ(result.planes_before, (std::array<std::size_t, 3>{3, 2, 3}));
+  EXPECT_EQ(result.planes_after, (std::array<std::size_t, 3>{2, 2, 2}));
+  for (int axis = 0; axis < 3; ++axis) EXPECT_EQ(count_facet_planes(grid, axis), result.planes_after[axis]);
+  EXPECT_GE(result.removed, 1u);
+  // The step is either filled or planed off: one layer of 6 x 12 voxels.
+  EXPECT_EQ(std::max(grid.count(), voxels) - std::min(grid.count(), voxels), 72u);
+  EXPECT_TRUE(is_well_composed(grid));
+  EXPECT_EQ(invariants(grid), invariants(stepped_block(1)));
+}
+
+TEST(MergeFacetPlanes, LeavesAStepTallerThanTheShift) {
+  VoxelGrid grid = stepped_block(3);
+  const VoxelGrid before = grid;
+  const PlaneMergeResult result = merge_facet_planes(grid, 2);
+  EXPECT_EQ(result.removed, 0u);
+  EXPECT_EQ(result.flips, 0u);
+  EXPECT_EQ(grid.occupied, before.occupied);
+  // With a shift of 3 the step goes.
+  EXPECT_EQ(merge_facet_planes(grid, 3).planes_after[2], 2u);
+}
+
+TEST(MergeFacetPlanes, ZeroShiftChangesNothing) {
+  VoxelGrid grid = stepped_block(1);
+  const VoxelGrid before = grid;
+  const PlaneMergeResult result = merge_facet_planes(grid, 0);
+  EXPECT_EQ(result.removed, 0u);
+  EXPECT_EQ(grid.occupied, before.occupied);
+}
+
+TEST(MergeFacetPlanes, KeepsTopologyAndWellComposednessAndNeverAddsAPlane) {
+  std::vector<VoxelGrid> cases{noise_blob(28, 3, 6, 0.5), noise_blob({30, 22, 18}, 11, 9, 0.45), torus(24, 6.5, 3.2),
+                               genus_three_plate()};
+  std::size_t removed = 0;
+  for (VoxelGrid& grid : cases) {
+    ASSERT_TRUE(is_well_composed(grid));
+    const auto topology = invariants(grid);
+    std::array<std::size_t, 3> planes{};
+    for (int axis = 0; axis < 3; ++axis) planes[axis] = count_facet_planes(grid, axis);
+    const PlaneMergeResult result = merge_facet_planes(grid, 2);
+    EXPECT_EQ(result.planes_before, planes);
+    EXPECT_TRUE(is_well_composed(grid));
+    EXPECT_EQ(invariants(grid), topology);
+    for (int axis = 0; axis < 3; ++axis) {
+      EXPECT_EQ(count_facet_planes(grid, axis), result.planes_after[axis]);
+      EXPECT_LE(result.planes_after[axis], planes[axis]);
+    }
+    removed += result.removed;
+  }
+  EXPECT_GT(removed, 0u);  // the blobs' curved sides are staircases of planes
+}
