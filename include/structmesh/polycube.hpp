@@ -278,7 +278,7 @@ struct PlaneMergeResult {
 /// a plane's moves are kept only if the plane is gone, no new plane appeared and the voxels
 /// are still well-composed (merge_facet_planes.cpp). The topology is kept. The hex grid of
 /// chapter 5 takes at least one layer per slab between planes, so this is what brings its
-/// hex count near the one asked for. max_shift 0 does nothing.
+/// hex count near the one asked for. max_shift 0 only counts the planes.
 PlaneMergeResult merge_facet_planes(VoxelGrid& grid, int max_shift = 2, bool progress = false);
 
 struct PolycubeOptions {

@@ -131,10 +131,10 @@ PolycubeResult build_polycube(const TriMesh& input, const PolycubeOptions& optio
   const VoxelGrid voxelized = result.voxels;
   result.optimization = optimize_polycube(result.voxels, distance, optimization);
   result.before_merge = result.optimization.after;
-  if (options.merge_planes_within > 0) {
-    result.plane_merge = merge_facet_planes(result.voxels, options.merge_planes_within, options.progress);
+  // With merge_planes_within = 0 this only counts the planes.
+  result.plane_merge = merge_facet_planes(result.voxels, options.merge_planes_within, options.progress);
+  if (result.plane_merge.removed > 0)
     result.optimization.after = polycube_energy(result.voxels, distance, optimization.alpha, &voxelized);
-  }
   result.final = voxel_topology(result.voxels);
   if (!same_topology(result.final, result.expected) || !is_well_composed(result.voxels))
     throw Error("polycube: the optimisation changed the topology to " + topology_text(result.final) +

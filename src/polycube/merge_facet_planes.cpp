@@ -163,16 +163,26 @@ class PlaneMerger {
         // down, nearest the facet first. They turn solid when the facet moves away from
         // the solid side (up with the solid below), empty otherwise.
         const bool add = (d > 0) == (orientation > 0);
+        // Only a clean translation: every voxel between the facet and the target, and the
+        // one just beyond the target, must be in the state the facet leaves behind, so the
+        // facet arrives whole on the target plane. A facet that would run into material on
+        // the way fills a gap instead (it glued the hand's fingers together).
         std::vector<std::array<int, 3>> pending;
-        for (int layer = 0; layer < distance; ++layer) {
+        bool clean = true;
+        for (int layer = 0; layer <= distance && clean; ++layer) {
           const int w = d > 0 ? c + layer : c - 1 - layer;
           for (const std::size_t f : members) {
             const int u = static_cast<int>(f % static_cast<std::size_t>(nu)),
                       v = static_cast<int>(f / static_cast<std::size_t>(nu));
             const auto p = voxel(axis, w, u, v);
-            if (grid_.at(p[0], p[1], p[2]) != add) pending.push_back(p);
+            if (grid_.at(p[0], p[1], p[2]) == add) {
+              clean = false;
+              break;
+            }
+            if (layer < distance) pending.push_back(p);
           }
         }
+        if (!clean) continue;
         const std::size_t mark = journal_.size();
         // Passes over what is left: a flip that is not simple yet may be once its
         // neighbours have flipped.
@@ -224,9 +234,11 @@ class PlaneMerger {
 
 PlaneMergeResult merge_facet_planes(VoxelGrid& grid, int max_shift, bool progress) {
   PlaneMergeResult result;
-  if (max_shift <= 0 || grid.count() == 0) return result;
+  if (grid.count() == 0) return result;
   PlaneMerger merger(grid);
   for (int axis = 0; axis < 3; ++axis) result.planes_before[axis] = merger.planes(axis);
+  result.planes_after = result.planes_before;
+  if (max_shift <= 0) return result;  // the planes counted, nothing moved
   // Rounds over the three axes, the planes with the fewest facet faces first (the cheapest
   // to move), until a round removes nothing.
   for (bool removed = true; removed;) {

@@ -16,6 +16,8 @@ assert 1500 <= r["hexes"] <= 6000, r["hexes"]
 # D_v >= 1 (equality for a volume-preserving map); defined only without flipped tets
 assert r["map"]["flipped"] == 0 and 1.0 <= r["volume_distortion"] < 3, (r["map"], r["volume_distortion"])
 assert r["polycube"]["handles"] == 1 and r["geometric_deviation"] < 0.02, r
+# the polycube's facet planes (merged by default) are reported, at least 2 per axis
+assert all(n >= 2 for n in r["polycube"]["facet_planes"]), r["polycube"]
 q = json.load(open(f"{work}/quality.json"))
 # quality reads the .mesh back and finds the same mesh
 text = json.dumps(q)
@@ -30,5 +32,11 @@ expect_bad_input_rejected hex vtu
 "$sm" hex "$torus" --hexes 100 --size 0.1 -o "$work/both.vtu" 2>/dev/null
 status=$?
 [[ $status -eq 2 ]] || fail "--hexes with --size: exit $status, expected 2"
+# A grid above --max-hexes is refused (exit 1, runtime) with a message, and nothing written.
+"$sm" hex "$torus" --hexes 3000 --max-hexes 500 -o "$work/big.vtu" 2>"$work/big.err"
+status=$?
+[[ $status -eq 1 ]] || fail "--max-hexes 500: exit $status, expected 1"
+grep -q "more than the limit of 500" "$work/big.err" || fail "--max-hexes message: $(cat "$work/big.err")"
+[[ ! -e "$work/big.vtu" ]] || fail "--max-hexes left big.vtu behind"
 
 finish hex

@@ -76,6 +76,31 @@ TEST(SurfaceProjection, ParallelQueriesEqualSerialOnes) {
   EXPECT_EQ(serial_weights, parallel_weights);
 }
 
+TEST(SurfaceProjection, DegenerateTrianglesAreLeftOutAndIndicesStayTheSurfaces) {
+  // The cube with a collinear triangle first (all later indices shift by one) and a
+  // zero-area triangle with a repeated point at the end.
+  TriMesh cube = unit_cube();
+  cube.points.emplace_back(0.5, 0, 1);  // 8: the midpoint of edge 4-5
+  cube.triangles.insert(cube.triangles.begin(), {4, 8, 5});
+  cube.triangles.push_back({6, 6, 7});
+  const SurfaceProjection projection(cube);
+  Index triangle = kInvalidIndex;
+  Vec3 weights;
+  projection.closest_point(Vec3(0.75, 0.25, 5), &triangle, &weights);
+  EXPECT_EQ(triangle, 3u);  // (4, 5, 6), the unit cube's triangle 2
+  Vec3 hit;
+  // A vertical line through the top face, and one along the collinear triangle's edge.
+  ASSERT_TRUE(projection.nearest_on_line(Vec3(0.75, 0.25, 0.9), Vec3(0, 0, 1), 1.0, hit, triangle, weights));
+  EXPECT_NEAR((hit - Vec3(0.75, 0.25, 1)).norm(), 0.0, 1e-12);
+  EXPECT_EQ(triangle, 3u);
+  EXPECT_NO_THROW(projection.nearest_on_line(Vec3(0.5, 0, 0.5), Vec3(0, 0, 1), 1.0, hit, triangle, weights));
+  EXPECT_NE(triangle, 0u);
+  TriMesh flat;
+  flat.points = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0)};
+  flat.triangles = {{0, 1, 2}};
+  EXPECT_THROW(SurfaceProjection{flat}, InputError);
+}
+
 TEST(SurfaceProjection, RejectsAnEmptySurface) {
   EXPECT_THROW(SurfaceProjection(TriMesh{}), InputError);
   TriMesh broken = unit_cube();

@@ -103,6 +103,29 @@ TEST(VolumetricMap, RejectsMismatchedInput) {
   moved.points[0].x() += 0.1;
   EXPECT_THROW(volumetric_map(tets, moved, box), InputError);  // not the tet mesh's points
   EXPECT_THROW(volumetric_map(TetMesh{}, box, box), InputError);
+  VolumetricMapOptions options;
+  options.boundary_positions.assign(box.points.size() - 1, Vec3::Zero());
+  EXPECT_THROW(volumetric_map(tets, box, box, options), InputError);
+}
+
+TEST(VolumetricMap, BoundaryPositionsOverrideTheTargetsPointsButNotItsFrames) {
+  // Frames from the identity, the boundary pinned to the box shifted by t: the map is the
+  // shift only where the frames agree with it, which they do (a shift has no rotation).
+  const TriMesh box = test::subdivided_box(2, 1.5, 1, 4);
+  const TetMesh tets = solid(box);
+  const Vec3 shift(0.5, -2, 1);
+  VolumetricMapOptions options;
+  for (const Vec3& p : box.points) options.boundary_positions.push_back(p + shift);
+  const VolumetricMap moved = volumetric_map(tets, box, box, options);
+  EXPECT_EQ(moved.flipped, 0u);
+  for (std::size_t i = 0; i < tets.points.size(); ++i)
+    EXPECT_LT((moved.parameter[i] - (tets.points[i] + shift)).norm(), 1e-8) << "point " << i;
+  // Scaled positions with unscaled frames: the boundary still goes exactly where asked.
+  options.boundary_positions.clear();
+  for (const Vec3& p : box.points) options.boundary_positions.push_back(1.2 * p);
+  const VolumetricMap scaled = volumetric_map(tets, box, box, options);
+  for (std::size_t i = 0; i < box.points.size(); ++i) EXPECT_EQ(scaled.parameter[i], Vec3(1.2 * box.points[i]));
+  EXPECT_EQ(scaled.flipped, 0u);
 }
 
 }  // namespace

@@ -991,6 +991,8 @@ TEST(MergeFacetPlanes, ZeroShiftChangesNothing) {
   const VoxelGrid before = grid;
   const PlaneMergeResult result = merge_facet_planes(grid, 0);
   EXPECT_EQ(result.removed, 0u);
+  EXPECT_EQ(result.planes_before, (std::array<std::size_t, 3>{3, 2, 3}));
+  EXPECT_EQ(result.planes_after, result.planes_before);
   EXPECT_EQ(grid.occupied, before.occupied);
 }
 
@@ -1014,4 +1016,20 @@ TEST(MergeFacetPlanes, KeepsTopologyAndWellComposednessAndNeverAddsAPlane) {
     removed += result.removed;
   }
   EXPECT_GT(removed, 0u);  // the blobs' curved sides are staircases of planes
+}
+
+TEST(MergeFacetPlanes, ANarrowSlitStaysOpen) {
+  // A block with a slit one voxel wide cut from the top across its whole depth: the slit's
+  // walls are on planes x = 9 and x = 10, one apart. Moving either wall onto the other's
+  // plane would fill the slit (glue the two halves, as it glued the hand's fingers): a
+  // facet may only move where it arrives whole.
+  VoxelGrid grid = make_grid(20, 12, 10);
+  fill(grid, {2, 2, 2}, {18, 10, 8});
+  fill(grid, {9, 2, 4}, {10, 10, 8}, false);
+  const auto topology = invariants(grid);
+  merge_facet_planes(grid, 2);
+  for (int z = 4; z < 8; ++z)
+    for (int y = 2; y < 10; ++y) EXPECT_FALSE(grid.at(9, y, z)) << y << ", " << z;
+  EXPECT_EQ(invariants(grid), topology);
+  EXPECT_TRUE(is_well_composed(grid));
 }
