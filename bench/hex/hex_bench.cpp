@@ -51,7 +51,8 @@ int main(int argc, char** argv) {
 
   std::printf(
       "| model | vertices | target | hexes | scaled Jacobian min / avg | 8-corner min | inverted | dihedral avg / std "
-      "| D_v | D_g (1e-3) | N_h | corners | polycube s | tets + map s | grid + smoothing s | total s | dissertation "
+      "| D_v | D_g (1e-3) | N_h | corners; facet planes x/y/z | polycube s | tets + map s | grid + smoothing s | total "
+      "s | dissertation "
       "(Table 5.2; 5.1 total) |\n");
   std::printf("|---|---:|---:|---:|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
   for (const auto& path : models) {
@@ -80,13 +81,20 @@ int main(int argc, char** argv) {
       else
         std::snprintf(buffer, sizeof buffer, "- (%zu flipped)", r.map.flipped);
       const std::string volume_distortion = buffer;
+      const auto& planes = r.polycube.plane_merge.planes_after;
+      std::snprintf(buffer, sizeof buffer, "%zu; %zu/%zu/%zu%s", r.polycube.optimization.after.corners, planes[0],
+                    planes[1], planes[2],
+                    r.unmerged_kept     ? " (unmerged: retry)"
+                    : r.merging_retried ? " (merged, retry worse)"
+                                        : "");
+      const std::string corners = buffer;
       std::printf(
-          "| %s | %zu | %zu | %zu | %.3f / %.3f | %.3f | %zu | %.2f / %.2f | %s | %.3f | %zu | %zu | %.1f | %.1f | "
+          "| %s | %zu | %zu | %zu | %.3f / %.3f | %.3f | %zu | %.2f / %.2f | %s | %.3f | %zu | %s | %.1f | %.1f | "
           "%.1f | %.1f | %s |\n",
           name.c_str(), surface.points.size(), target, r.mesh.hexes.size(), q.scaled_jacobian_stats.min,
           q.scaled_jacobian_stats.mean, q.corner_scaled_jacobian_stats.min, q.inverted + q.invalid,
           q.dihedral_degrees.mean, q.dihedral_degrees.stddev, volume_distortion.c_str(), 1e3 * r.geometric_deviation,
-          q.singular_vertices, r.polycube.optimization.after.corners, stage(r, "polycube (total)"),
+          q.singular_vertices, corners.c_str(), stage(r, "polycube (total)"),
           stage(r, "tet mesh") + stage(r, "volumetric map"),
           stage(r, "hex grid") + stage(r, "inverse map") + stage(r, "padding") + stage(r, "smoothing"), total, anchor);
     } catch (const std::exception& e) {
