@@ -9,13 +9,12 @@
 // 2D version in quad2d/untangle_quads.cpp) because no Debian library untangles hex meshes;
 // LBFGS++ does the minimisation.
 #include "hex/untangle_hexes.hpp"
+#include "mesh/foldover_free.hpp"
 
-#include <LBFGS.h>
 #include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
-#include <exception>
 #include <limits>
 
 namespace structmesh::hex_detail {
@@ -30,14 +29,6 @@ constexpr std::array<std::array<double, 3>, 8> kAxisSigns{
     {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1}, {-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}}};
 // The area term's weight: small, as in the paper (the shape term does the work).
 constexpr double kTheta = 1.0 / 128;
-
-double chi(double eps, double det) {
-  // The second form avoids cancellation for negative det.
-  if (det > 0) return 0.5 * (det + std::sqrt(eps * eps + det * det));
-  return 0.5 * eps * eps / (std::sqrt(eps * eps + det * det) - det);
-}
-
-double chi_derivative(double eps, double det) { return 0.5 + det / (2 * std::sqrt(eps * eps + det * det)); }
 
 }  // namespace
 
@@ -89,7 +80,7 @@ HexUntangleResult untangle_hexes(std::vector<Vec3>& points, std::span<const std:
   const auto corner_energy = [&](const Vec3& a, const Vec3& b, const Vec3& d, Vec3& ga, Vec3& gb, Vec3& gd) {
     const Vec3 bd = b.cross(d), da = d.cross(a), ab = a.cross(b);
     const double det = a.dot(bd);
-    const double chi_value = chi(eps, det), chi_slope = chi_derivative(eps, det);
+    const double chi_value = detail::foldover_chi(eps, det), chi_slope = detail::foldover_chi_derivative(eps, det);
     const double frobenius = a.squaredNorm() + b.squaredNorm() + d.squaredNorm();
     const double chi_23 = std::cbrt(chi_value * chi_value);
     const double shape = frobenius / chi_23, area = (det * det + 1) / chi_value;
@@ -131,51 +122,19 @@ HexUntangleResult untangle_hexes(std::vector<Vec3>& points, std::span<const std:
     return total;
   };
 
-  double detmin = min_det(x);
-  result.min_det_before = detmin;
-  eps = std::sqrt(1e-12 + 0.04 * std::pow(std::min(detmin, 0.0), 2));
-  Eigen::VectorXd best = x;
-  double best_detmin = detmin;
-  LBFGSpp::LBFGSParam<double> param;  // must outlive the solver (held by reference)
-  param.m = 8;
-  param.epsilon = 1e-8;
-  param.epsilon_rel = 0;
-  param.past = 2;
-  param.delta = 1e-7;
-  param.max_iterations = 200;
-  param.linesearch = LBFGSpp::LBFGS_LINESEARCH_BACKTRACKING_ARMIJO;
-  param.max_linesearch = 40;
-  LBFGSpp::LBFGSSolver<double, LBFGSpp::LineSearchBacktracking> solver(param);
-  Eigen::VectorXd gradient(n);
-  for (int outer = 0; outer < max_steps; ++outer) {
-    result.outer_iterations = outer + 1;
-    const double before = energy(x, gradient);
-    double after = before;
-    const Eigen::VectorXd start = x;
-    try {
-      solver.minimize(energy, x, after);
-    } catch (const std::exception&) {
-      // A line search that cannot progress throws with x at its last trial point, which
-      // may be worse than where it started.
-      after = energy(x, gradient);
-      if (!(after <= before)) x = start, after = before;
-    }
-    if (!std::isfinite(after)) {
-      x = best;
-      break;
-    }
-    detmin = min_det(x);
-    // Until the region is valid keep the placement with the largest smallest corner; once
-    // valid, the latest (lower energy: better shaped corners).
-    if (detmin > 0 || detmin > best_detmin) best = x, best_detmin = detmin;
-    const double sigma = std::max(1 - after / before, 0.1);
-    const double mu = (1 - sigma) * chi(eps, detmin);
-    eps = detmin < mu ? 2 * std::sqrt(mu * (mu - detmin)) : 1e-10;
-    if (detmin > 0 && std::abs(before - after) <= 1e-4 * std::abs(after)) break;
-  }
+  detail::FoldoverFreeSettings settings;
+  settings.max_steps = max_steps;
+  // Armijo, and back to the start of a step whose line search failed: with Wolfe's
+  // curvature test the flattened hexes of a thin tip stopped every step at once.
+  settings.wolfe = false;
+  settings.restore_on_failure = true;
+  const detail::FoldoverFreeResult minimised = detail::minimize_foldover_free(x, eps, energy, min_det, settings);
+  result.min_det_before = minimised.min_det_before;
+  result.min_det_after = minimised.min_det_after;
+  result.outer_iterations = minimised.outer_iterations;
+  const Eigen::VectorXd& best = x;
   for (std::size_t k = 0; k < free.size(); ++k)
     points[free[k]] = origin + size * Vec3(best.segment<3>(3 * static_cast<Eigen::Index>(k)));
-  result.min_det_after = best_detmin;
   return result;
 }
 

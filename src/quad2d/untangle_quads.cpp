@@ -10,14 +10,12 @@
 // this one moves the zone's points jointly with L-BFGS (LBFGS++).
 #include "quad2d/untangle_quads.hpp"
 
+#include "mesh/foldover_free.hpp"
 #include "structmesh/quality.hpp"
-
-#include <LBFGS.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <exception>
 #include <limits>
 
 namespace structmesh::paving {
@@ -28,14 +26,6 @@ constexpr int kPolishSteps = 3;
 // in two thirds of the time.
 constexpr int kPolishIterations = 100;
 constexpr Index kPolishLimit = 20000;
-
-double chi(double eps, double det) {
-  // The second form avoids cancellation for negative det.
-  if (det > 0) return 0.5 * (det + std::sqrt(eps * eps + det * det));
-  return 0.5 * eps * eps / (std::sqrt(eps * eps + det * det) - det);
-}
-
-double chi_derivative(double eps, double det) { return 0.5 + det / (2 * std::sqrt(eps * eps + det * det)); }
 
 struct Corner {
   Index a, b, c;  // corner point, next point, previous point
@@ -85,7 +75,7 @@ UntangleResult untangle_quads(std::vector<Vec2>& points, std::span<const std::ar
     for (const Corner& k : corners) {
       const Vec2 a = position(v, k.a), u = (position(v, k.b) - a) * inv_h, w = (position(v, k.c) - a) * inv_h;
       const double det = u.x() * w.y() - u.y() * w.x();
-      const double c = chi(eps, det), dc = chi_derivative(eps, det);
+      const double c = detail::foldover_chi(eps, det), dc = detail::foldover_chi_derivative(eps, det);
       const double lu = std::max(u.norm(), 1e-12), lw = std::max(w.norm(), 1e-12);
       const double shape = 2 * lu * lw + beta * (lu - lw) * (lu - lw);
       const double numerator = (1 - theta) * shape + theta * (det * det + 1);
@@ -108,45 +98,14 @@ UntangleResult untangle_quads(std::vector<Vec2>& points, std::span<const std::ar
     return total;
   };
 
-  double detmin = min_det(x);
-  result.min_det_before = detmin;
-  eps = std::sqrt(1e-12 + 0.04 * std::pow(std::min(detmin, 0.0), 2));
-  Eigen::VectorXd best = x;
-  double best_detmin = detmin;
-  LBFGSpp::LBFGSParam<double> param;  // must outlive the solver (held by reference)
-  param.m = 8;
-  param.epsilon = 1e-8;
-  param.epsilon_rel = 0;
-  param.past = 2;
-  param.delta = 1e-7;
-  param.max_iterations = max_iterations;
-  param.linesearch = LBFGSpp::LBFGS_LINESEARCH_BACKTRACKING_WOLFE;
-  param.max_linesearch = 40;
-  LBFGSpp::LBFGSSolver<double, LBFGSpp::LineSearchBacktracking> solver(param);
-  Eigen::VectorXd gradient(n);
-  for (int outer = 0; outer < max_steps; ++outer) {
-    result.outer_iterations = outer + 1;
-    const double before = energy(x, gradient);
-    double after = before;
-    try {
-      solver.minimize(energy, x, after);
-    } catch (const std::exception&) {
-      // A line search that cannot progress leaves x at its last accepted point.
-      after = energy(x, gradient);
-    }
-    if (!std::isfinite(after)) {
-      x = best;
-      break;
-    }
-    detmin = min_det(x);
-    // Until the zone is valid, keep the placement with the largest smallest corner;
-    // once valid, the latest (lower energy: better shaped corners).
-    if (detmin > 0 || detmin > best_detmin) best = x, best_detmin = detmin;
-    const double sigma = std::max(1 - after / before, 0.1);
-    const double mu = (1 - sigma) * chi(eps, detmin);
-    eps = detmin < mu ? 2 * std::sqrt(mu * (mu - detmin)) : 1e-10;
-    if (detmin > 0 && std::abs(before - after) <= 1e-4 * std::abs(after)) break;
-  }
+  detail::FoldoverFreeSettings settings;
+  settings.max_steps = max_steps;
+  settings.max_iterations = max_iterations;
+  const detail::FoldoverFreeResult minimised = detail::minimize_foldover_free(x, eps, energy, min_det, settings);
+  result.min_det_before = minimised.min_det_before;
+  result.outer_iterations = minimised.outer_iterations;
+  const Eigen::VectorXd& best = x;
+  const double best_detmin = minimised.min_det_after;
   for (std::size_t k = 0; k < free.size(); ++k) points[free[k]] = Vec2(best[2 * k], best[2 * k + 1]);
   result.min_det_after = best_detmin;
   result.valid = best_detmin > 0;
