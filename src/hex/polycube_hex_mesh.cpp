@@ -146,8 +146,10 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
   // is the relaxation): P differs from Q by the optimisation's and the plane merging's
   // moves, up to a few voxels, and with Q as the domain the grid points of P outside Q
   // were all put on the surface, folding whole layers.
+  // Without plane merging P stays within about a voxel of Q and the map ends on Q.
+  const bool map_onto_p = options.polycube.merge_planes_within > 0;
   TriMesh on_p;  // Q's triangles on P's points nearest to Q's
-  {
+  if (map_onto_p) {
     TriMesh p_triangles;
     p_triangles.points = polycube.surface.points;
     for (const auto& q : polycube.surface.quads) {
@@ -178,7 +180,7 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
       else
         on_p.points[v] = onto_p.closest_point(point);
     });
-    if (options.polycube.merge_planes_within > 0) map_options.boundary_positions = on_p.points;
+    map_options.boundary_positions = on_p.points;
   }
   result.map = volumetric_map(result.tets, aligned, polycube.pseudo.surface, map_options);
   result.parameter = result.map.parameter;
@@ -203,7 +205,7 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
     const int label = nearest_axis_label(normal);
     for (Index v : q) axes_of[v] |= static_cast<std::uint8_t>(1u << label);
   }
-  const SurfaceProjection onto_q(options.polycube.merge_planes_within > 0 ? on_p : polycube.pseudo.surface);
+  const SurfaceProjection onto_q(map_onto_p ? on_p : polycube.pseudo.surface);
   const hex_detail::TetLocator locator(result.parameter, result.tets.tets);
   const double voxel = polycube.voxels.size;
   std::vector<Vec3> mapped(grid.points.size());
