@@ -314,13 +314,11 @@ HexResult polycube_hex_mesh(const TriMesh& surface, const HexOptions& options) {
                       (bad(second) == bad(result) &&
                        second.quality.scaled_jacobian_stats.min > result.quality.scaled_jacobian_stats.min);
   std::vector<std::pair<std::string, double>> first_stages = std::move(result.stage_seconds);
-  if (better) {
+  if (better)
     result = std::move(second);
-    result.merging_retried = true;
-  } else {
-    result.merging_retried = true;
+  else
     result.stage_seconds = std::move(second.stage_seconds);
-  }
+  result.merging_retried = true;
   // The report's stage times cover both attempts.
   double first_total = 0;
   for (const auto& [name, seconds] : first_stages)

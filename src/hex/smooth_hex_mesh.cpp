@@ -7,13 +7,10 @@
 // different colours (greedy colouring in index order), and the points of one colour move in
 // parallel: none of them reads a position or writes a hex another one touches, so a colour
 // gives the same result as moving its points one after the other, whatever the thread count.
+#include "hex/untangle_hexes.hpp"
 #include "structmesh/error.hpp"
 #include "structmesh/hex.hpp"
 #include "structmesh/progress.hpp"
-
-#include <cstdio>
-#include <cstdlib>
-#include "hex/untangle_hexes.hpp"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>

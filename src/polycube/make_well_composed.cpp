@@ -15,17 +15,6 @@ namespace structmesh {
 
 namespace {
 
-// Critical blocks among the eight 2x2x2 blocks that contain voxel (x, y, z).
-int critical_blocks_around(const VoxelGrid& grid, int x, int y, int z) {
-  const std::uint32_t config = voxel::neighbourhood(grid, x, y, z);
-  int critical = 0;
-  for (int bz = 0; bz < 2; ++bz)
-    for (int by = 0; by < 2; ++by)
-      for (int bx = 0; bx < 2; ++bx)
-        critical += voxel::block_is_critical(voxel::block_of_configuration(config, bx, by, bz)) ? 1 : 0;
-  return critical;
-}
-
 // Critical blocks around the grid vertices (vx, vy, vz) with lo <= v <= hi per axis; the
 // block around a vertex holds voxels vx - 1 .. vx (and so on).
 int critical_blocks_between(const VoxelGrid& grid, const std::array<int, 3>& lo, const std::array<int, 3>& hi) {
@@ -39,6 +28,12 @@ int critical_blocks_between(const VoxelGrid& grid, const std::array<int, 3>& lo,
         critical += voxel::block_is_critical(block) ? 1 : 0;
       }
   return critical;
+}
+
+// Critical blocks among the eight 2x2x2 blocks that contain voxel (x, y, z): those around
+// its corners, grid vertices x .. x + 1 per axis.
+int critical_blocks_around(const VoxelGrid& grid, int x, int y, int z) {
+  return critical_blocks_between(grid, {x, y, z}, {x + 1, y + 1, z + 1});
 }
 
 bool flippable(const VoxelGrid& grid, int u, int v, int w) {
@@ -107,10 +102,7 @@ std::size_t make_well_composed(VoxelGrid& grid) {
           for (int dy = -1; dy <= 1 && !resolved; ++dy)
             for (int dx = -1; dx <= 1 && !resolved; ++dx) {
               const int u = x + dx, v = y + dy, w = z + dz;
-              // The outermost layer stays empty: the grid keeps its empty border.
-              if (u <= 0 || v <= 0 || w <= 0 || u >= grid.dims[0] - 1 || v >= grid.dims[1] - 1 || w >= grid.dims[2] - 1)
-                continue;
-              if (grid.at(u, v, w) == add || !is_simple_voxel(grid, u, v, w)) continue;
+              if (grid.at(u, v, w) == add || !flippable(grid, u, v, w)) continue;
               const int before = critical_blocks_around(grid, u, v, w);
               if (before == 0) continue;  // flipping it cannot resolve anything here
               grid.set(u, v, w, add);
