@@ -72,7 +72,7 @@ class SurfaceProjection {
 };
 
 struct HexSmoothingOptions {
-  int iterations = 30;        ///< sweeps over all points
+  int iterations = 100;       ///< sweeps over all points (fewer when the gains stop)
   bool move_boundary = true;  ///< boundary points slide on the target surface
   /// Boundary points where two of their boundary quads meet at more than this angle stay
   /// put (sharp edges and corners of the input, §4.5.3); 0: every boundary point slides.

@@ -74,6 +74,16 @@ bool barycentric_gradients(const std::array<Vec3, 4>& p, Eigen::Matrix<double, 4
   return true;
 }
 
+/// The same for tet t of the mesh, with its unsigned volume.
+bool tet_barycentric_gradients(const TetMesh& tets, std::size_t t, Eigen::Matrix<double, 4, 3>& gradient,
+                               double& volume) {
+  const auto& tet = tets.tets[t];
+  const std::array<Vec3, 4> p{tets.points[tet[0]], tets.points[tet[1]], tets.points[tet[2]], tets.points[tet[3]]};
+  const bool ok = barycentric_gradients(p, gradient, volume);
+  volume = std::abs(volume);
+  return ok;
+}
+
 struct TriangleKey {
   std::array<Index, 3> v;
   bool operator==(const TriangleKey& o) const { return v == o.v; }
@@ -147,88 +157,35 @@ VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source
     fixed_frame[cell] = 1;
   }
 
-  // --- 2. interior frames: harmonic quaternions (C_S of §5.2.2), smoothed on the points
-  // rather than on the dual graph: a system a fifth the size (a tet mesh has about five
-  // tets per point) whose Cholesky factor costs like (5.1)'s; an interior tet's frame is the
-  // mean of its four points'. Boundary points carry the mean rotation of their triangles.
-  std::vector<Eigen::Vector4d> point_quaternion(point_count, Eigen::Vector4d::Zero());
-  for (std::size_t f = 0; f < boundary_source.triangles.size(); ++f)
-    for (Index v : boundary_source.triangles[f]) point_quaternion[v] += triangle_rotation[f].coeffs();
-  if (point_count > boundary_count) {
-    const EdgeAdjacency edges = build_edges(tets);
-    const auto unknowns = static_cast<Eigen::Index>(point_count - boundary_count);
-    std::vector<Eigen::Triplet<double>> entries;
-    entries.reserve(edges.edges.size() * 4);
-    Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(unknowns, 4);
-    const auto unknown = [&](Index v) {
-      return static_cast<Eigen::Index>(v) - static_cast<Eigen::Index>(boundary_count);
-    };
-    for (const auto& [a, b] : edges.edges)
-      for (auto [p, q] : {std::pair{a, b}, std::pair{b, a}}) {
-        if (p < boundary_count) continue;
-        entries.emplace_back(unknown(p), unknown(p), 1.0);
-        if (q >= boundary_count)
-          entries.emplace_back(unknown(p), unknown(q), -1.0);
-        else
-          rhs.row(unknown(p)) += point_quaternion[q].normalized().transpose();
-      }
-    // A point no tet uses (TetGen may leave one) has no edges: pin it with a unit diagonal.
-    std::vector<std::uint8_t> has_edge(point_count, 0);
-    for (const auto& [a, b] : edges.edges) has_edge[a] = has_edge[b] = 1;
-    for (std::size_t v = boundary_count; v < point_count; ++v)
-      if (!has_edge[v]) entries.emplace_back(unknown(static_cast<Index>(v)), unknown(static_cast<Index>(v)), 1.0);
-    Eigen::SparseMatrix<double> laplacian(unknowns, unknowns);
-    laplacian.setFromTriplets(entries.begin(), entries.end());
-    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver(laplacian);
-    if (solver.info() != Eigen::Success)
-      throw Error("volumetric_map: the frame smoothness system is singular (interior points without boundary?)");
-    const Eigen::MatrixXd solution = solver.solve(rhs);
-    for (std::size_t v = boundary_count; v < point_count; ++v)
-      point_quaternion[v] = solution.row(unknown(static_cast<Index>(v))).transpose();
-  }
-  for (std::size_t t = 0; t < tet_count; ++t)
-    if (!fixed_frame[t])
-      for (Index v : tets.tets[t]) quaternion[t] += point_quaternion[v].normalized();
-  std::vector<Eigen::Matrix3d> rotation(tet_count);
-  for (std::size_t t = 0; t < tet_count; ++t) {
-    Eigen::Vector4d q = quaternion[t];
-    rotation[t] = q.norm() > 1e-12 ? Eigen::Quaterniond(q / q.norm()).toRotationMatrix() : Eigen::Matrix3d::Identity();
-  }
-  result.seconds_frames = seconds_since(start);
-
-  // --- 3. positions: the least squares (5.1) with the boundary pinned to the target.
-  start = Clock::now();
+  // The stiffness matrix K of the tets (cotangent weights) over the interior points, and its
+  // couplings to the boundary points, which both solves below use. CHOLMOD factors it once.
+  // Row i of K: sum over tets of vol grad_i . grad_j.
   std::vector<Index> unknown_of_point(point_count, kInvalidIndex);
   std::size_t unknowns = 0;
   for (std::size_t i = boundary_count; i < point_count; ++i) unknown_of_point[i] = static_cast<Index>(unknowns++);
-  result.parameter.assign(point_count, Vec3::Zero());
-  const std::vector<Vec3>& positions =
-      options.boundary_positions.empty() ? boundary_target.points : options.boundary_positions;
-  for (std::size_t i = 0; i < boundary_count; ++i) result.parameter[i] = positions[i];
+  struct Coupling {
+    Index row, boundary_point;
+    double k;
+  };
+  std::vector<Coupling> couplings;  // K's entries between an interior row and a boundary point
+  std::optional<Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>>> factor;
   if (unknowns > 0) {
     std::vector<Eigen::Triplet<double>> entries;
     entries.reserve(tet_count * 16);
-    Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(unknowns), 3);
     for (std::size_t t = 0; t < tet_count; ++t) {
       const auto& tet = tets.tets[t];
-      const std::array<Vec3, 4> p{tets.points[tet[0]], tets.points[tet[1]], tets.points[tet[2]], tets.points[tet[3]]};
       Eigen::Matrix<double, 4, 3> gradient;
       double volume = 0;
-      if (!barycentric_gradients(p, gradient, volume)) continue;
-      volume = std::abs(volume);
-      // Row i of K: vol grad_i . grad_j; right-hand side: vol grad_i . X^k (X^k = row k of R).
-      const Eigen::Matrix<double, 4, 3> divergence = volume * gradient * rotation[t].transpose();
+      if (!tet_barycentric_gradients(tets, t, gradient, volume)) continue;
       for (int i = 0; i < 4; ++i) {
-        const Index row_point = unknown_of_point[tet[i]];
-        if (row_point == kInvalidIndex) continue;
-        const auto row = static_cast<Eigen::Index>(row_point);
-        rhs.row(row) += divergence.row(i);
+        const Index row = unknown_of_point[tet[i]];
+        if (row == kInvalidIndex) continue;
         for (int j = 0; j < 4; ++j) {
           const double k = volume * gradient.row(i).dot(gradient.row(j));
           if (unknown_of_point[tet[j]] != kInvalidIndex)
             entries.emplace_back(row, static_cast<Eigen::Index>(unknown_of_point[tet[j]]), k);
           else
-            rhs.row(row) -= k * result.parameter[tet[j]].transpose();
+            couplings.push_back({row, tet[j], k});
         }
       }
     }
@@ -243,9 +200,58 @@ VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source
       }
     Eigen::SparseMatrix<double> stiffness(static_cast<Eigen::Index>(unknowns), static_cast<Eigen::Index>(unknowns));
     stiffness.setFromTriplets(entries.begin(), entries.end());
-    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver(stiffness);
-    if (solver.info() != Eigen::Success) throw Error("volumetric_map: CHOLMOD could not factor the (5.1) system");
-    const Eigen::MatrixXd solution = solver.solve(rhs);
+    factor.emplace(stiffness);
+    if (factor->info() != Eigen::Success)
+      throw Error("volumetric_map: CHOLMOD could not factor the stiffness matrix (interior points without boundary?)");
+  }
+
+  // --- 2. interior frames: harmonic quaternions (C_S of §5.2.2), smoothed on the points
+  // rather than on the dual graph (a tet mesh has about five tets per point), with the same
+  // stiffness matrix as (5.1): the discrete Dirichlet energy of the quaternion field, and one
+  // factorization for both solves (the graph Laplacian of the tet edges took a second
+  // factorization: 7 of the bunny's 21 s of map at 80k hexes). An interior tet's frame is
+  // the mean of its four points'. Boundary points carry the mean rotation of their triangles.
+  std::vector<Eigen::Vector4d> point_quaternion(point_count, Eigen::Vector4d::Zero());
+  for (std::size_t f = 0; f < boundary_source.triangles.size(); ++f)
+    for (Index v : boundary_source.triangles[f]) point_quaternion[v] += triangle_rotation[f].coeffs();
+  if (factor) {
+    Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(unknowns), 4);
+    for (const Coupling& c : couplings)
+      rhs.row(c.row) -= c.k * point_quaternion[c.boundary_point].normalized().transpose();
+    const Eigen::MatrixXd solution = factor->solve(rhs);
+    for (std::size_t v = boundary_count; v < point_count; ++v)
+      point_quaternion[v] = solution.row(static_cast<Eigen::Index>(unknown_of_point[v])).transpose();
+  }
+  for (std::size_t t = 0; t < tet_count; ++t)
+    if (!fixed_frame[t])
+      for (Index v : tets.tets[t]) quaternion[t] += point_quaternion[v].normalized();
+  std::vector<Eigen::Matrix3d> rotation(tet_count);
+  for (std::size_t t = 0; t < tet_count; ++t) {
+    Eigen::Vector4d q = quaternion[t];
+    rotation[t] = q.norm() > 1e-12 ? Eigen::Quaterniond(q / q.norm()).toRotationMatrix() : Eigen::Matrix3d::Identity();
+  }
+  result.seconds_frames = seconds_since(start);
+
+  // --- 3. positions: the least squares (5.1) with the boundary pinned to the target.
+  start = Clock::now();
+  result.parameter.assign(point_count, Vec3::Zero());
+  const std::vector<Vec3>& positions =
+      options.boundary_positions.empty() ? boundary_target.points : options.boundary_positions;
+  for (std::size_t i = 0; i < boundary_count; ++i) result.parameter[i] = positions[i];
+  if (factor) {
+    // Right-hand side: vol grad_i . X^k (X^k = row k of R), minus the boundary couplings.
+    Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(unknowns), 3);
+    for (std::size_t t = 0; t < tet_count; ++t) {
+      const auto& tet = tets.tets[t];
+      Eigen::Matrix<double, 4, 3> gradient;
+      double volume = 0;
+      if (!tet_barycentric_gradients(tets, t, gradient, volume)) continue;
+      const Eigen::Matrix<double, 4, 3> divergence = volume * gradient * rotation[t].transpose();
+      for (int i = 0; i < 4; ++i)
+        if (const Index row = unknown_of_point[tet[i]]; row != kInvalidIndex) rhs.row(row) += divergence.row(i);
+    }
+    for (const Coupling& c : couplings) rhs.row(c.row) -= c.k * result.parameter[c.boundary_point].transpose();
+    const Eigen::MatrixXd solution = factor->solve(rhs);
     for (std::size_t i = boundary_count; i < point_count; ++i)
       result.parameter[i] = solution.row(static_cast<Eigen::Index>(unknown_of_point[i])).transpose();
   }
