@@ -150,7 +150,10 @@ struct HexOptions {
   double size = 0;               ///< hex edge length in the input's units (0 with no target: 1 per voxel)
   bool padding = true;           ///< one pillow layer under the boundary
   bool features = false;         ///< keep sharp edges and corners (--features; 30 degrees)
-  double padding_depth = 0.3;    ///< the pillow layer's depth, share of the mean boundary edge
+  /// The pillow layer's depth, share of the mean boundary edge. 0.5 rather than 0.3: a deeper
+  /// layer leaves a padding hex room to follow the surface's bend (worst hex: fertility 0.19 -> 0.39,
+  /// bunny 0.08 -> 0.19; mean 0.94 reached on the hand; screwdriver 0.53 -> 0.42).
+  double padding_depth = 0.5;
   double tet_size = 0;           ///< tet edge length of the map's mesh (0: the surface's mean edge)
   /// Refuse (Error) a grid of more hexes than this, padding included: a polycube with
   /// thousands of corners has a coarsest grid far above any target (one layer per slab
