@@ -154,7 +154,7 @@ struct HexOptions {
   /// layer leaves a padding hex room to follow the surface's bend (worst hex: fertility 0.19 -> 0.39,
   /// bunny 0.08 -> 0.19; mean 0.94 reached on the hand; screwdriver 0.53 -> 0.42).
   double padding_depth = 0.5;
-  double tet_size = 0;           ///< tet edge length of the map's mesh (0: the surface's mean edge)
+  double tet_size = 0;  ///< tet edge length of the map's mesh (0: the surface's mean edge)
   /// Refuse (Error) a grid of more hexes than this, padding included: a polycube with
   /// thousands of corners has a coarsest grid far above any target (one layer per slab
   /// between facet planes), and meshing it would run for long and end out of memory.
