@@ -34,28 +34,8 @@ constexpr std::array<std::array<int, 4>, 8> kCorners{
 // smooth_hex_mesh.cpp; a quarter of each axis is an edge of a cube's centre "corner".
 constexpr std::array<std::array<double, 3>, 8> kAxisSigns{
     {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1}, {-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}}};
-// The area term's weight: small, as in the paper (the shape term does the work).
-constexpr double kTheta = 1.0 / 128;
 // Hexes per parallel block; the blocks are fixed, so sums do not depend on the threads.
 constexpr std::size_t kBlock = 512;
-
-// The energy of one Jacobian [a b d] and its gradients with respect to a, b and d.
-double corner_energy(double eps, const Vec3& a, const Vec3& b, const Vec3& d, Vec3& ga, Vec3& gb, Vec3& gd) {
-  const Vec3 bd = b.cross(d), da = d.cross(a), ab = a.cross(b);
-  const double det = a.dot(bd);
-  const double chi_value = detail::foldover_chi(eps, det), chi_slope = detail::foldover_chi_derivative(eps, det);
-  const double frobenius = a.squaredNorm() + b.squaredNorm() + d.squaredNorm();
-  const double chi_23 = std::cbrt(chi_value * chi_value);
-  const double shape = frobenius / chi_23, area = (det * det + 1) / chi_value;
-  // dE/d det, then dE/da = 2 (1 - θ) a / χ^(2/3) + dE/d det * (b x d), and so on.
-  const double d_det = (1 - kTheta) * (-2.0 / 3.0) * shape * chi_slope / chi_value +
-                       kTheta * (2 * det / chi_value - area * chi_slope / chi_value);
-  const double stretch = 2 * (1 - kTheta) / chi_23;
-  ga = stretch * a + d_det * bd;
-  gb = stretch * b + d_det * da;
-  gd = stretch * d + d_det * ab;
-  return (1 - kTheta) * shape + kTheta * area;
-}
 
 // The hexes that use a free point, their nodes' positions (in units of size) and, per free
 // point, where its gradient contributions lie in the per-hex buffer.
@@ -110,11 +90,11 @@ class HexEnergy {
         g.fill(Vec3::Zero());
         Vec3 ga, gb, gd;
         for (const auto& [o, i, j, k] : kCorners) {
-          total += corner_energy(eps, p[i] - p[o], p[j] - p[o], p[k] - p[o], ga, gb, gd);
+          total += detail::foldover_energy_3d(eps, p[i] - p[o], p[j] - p[o], p[k] - p[o], ga, gb, gd);
           g[i] += ga, g[j] += gb, g[k] += gd, g[o] -= ga + gb + gd;
         }
         const auto axes = centre_axes(p);
-        total += corner_energy(eps, axes[0], axes[1], axes[2], ga, gb, gd);
+        total += detail::foldover_energy_3d(eps, axes[0], axes[1], axes[2], ga, gb, gd);
         for (int i = 0; i < 8; ++i)
           g[i] += 0.25 * (kAxisSigns[i][0] * ga + kAxisSigns[i][1] * gb + kAxisSigns[i][2] * gd);
         std::copy(g.begin(), g.end(), node_gradient_.begin() + static_cast<std::ptrdiff_t>(8 * h));

@@ -9,6 +9,7 @@
 
 #include <LBFGS.h>
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
@@ -24,6 +25,30 @@ inline double foldover_chi(double eps, double det) {
 
 inline double foldover_chi_derivative(double eps, double det) {
   return 0.5 + det / (2 * std::sqrt(eps * eps + det * det));
+}
+
+/// The 3D energy of one Jacobian J = [a b d]:
+///   (1 - θ) |J|² / χ(det J, ε)^(2/3) + θ (det J² + 1) / χ(det J, ε),  θ = 1/128
+/// (the area term small, as in the paper: the shape term does the work), and its gradients
+/// with respect to the columns a, b and d.
+inline double foldover_energy_3d(double eps, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                 const Eigen::Vector3d& d, Eigen::Vector3d& ga, Eigen::Vector3d& gb,
+                                 Eigen::Vector3d& gd) {
+  constexpr double kTheta = 1.0 / 128;
+  const Eigen::Vector3d bd = b.cross(d), da = d.cross(a), ab = a.cross(b);
+  const double det = a.dot(bd);
+  const double chi_value = foldover_chi(eps, det), chi_slope = foldover_chi_derivative(eps, det);
+  const double frobenius = a.squaredNorm() + b.squaredNorm() + d.squaredNorm();
+  const double chi_23 = std::cbrt(chi_value * chi_value);
+  const double shape = frobenius / chi_23, area = (det * det + 1) / chi_value;
+  // dE/d det, then dE/da = 2 (1 - θ) a / χ^(2/3) + dE/d det * (b x d), and so on.
+  const double d_det = (1 - kTheta) * (-2.0 / 3.0) * shape * chi_slope / chi_value +
+                       kTheta * (2 * det / chi_value - area * chi_slope / chi_value);
+  const double stretch = 2 * (1 - kTheta) / chi_23;
+  ga = stretch * a + d_det * bd;
+  gb = stretch * b + d_det * da;
+  gd = stretch * d + d_det * ab;
+  return (1 - kTheta) * shape + kTheta * area;
 }
 
 struct FoldoverFreeSettings {
