@@ -61,7 +61,7 @@ constexpr double kMinimumGain = 1e-12;   // of the normalised worst determinant
 // the worst scaled Jacobian at 0.35, 1/16 reached 0.99 in as many sweeps).
 constexpr std::array<double, 6> kSmoothingSteps{1.6, 1.0, 0.5, 0.25, 0.125, 0.0625};
 // Ascent steps along a score gradient: 1/4 of the mean edge length around the point, halved
-// down to 1/500 of it.
+// down to 1/100 of it.
 constexpr double kAscentFirstStep = 0.25, kAscentLastStep = 0.01;
 // Samples this close to the worst one around a point are raised together.
 constexpr double kActiveTolerance = 0.05;
@@ -258,7 +258,13 @@ class Smoother {
         std::size_t local = 0;
         for (std::size_t k = range.begin(); k != range.end(); ++k) {
           const Index v = colour[k];
-          if (skip_settled && settled(v)) continue;
+          if (!skip_settled) {
+            local += smooth_point(v, buffer);
+            continue;
+          }
+          // Only these sweeps keep the stamps: nothing else moves points between them (the
+          // untangling, which does, comes before).
+          if (settled(v)) continue;
           tried_at_[v] = epoch;
           if (smooth_point(v, buffer)) moved_at_[v] = epoch, ++local;
         }
