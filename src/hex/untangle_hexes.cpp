@@ -165,7 +165,7 @@ class HexEnergy {
 }  // namespace
 
 HexUntangleResult untangle_hexes(std::vector<Vec3>& points, std::span<const std::array<Index, 8>> hexes,
-                                 std::span<const Index> free, double size, const HexUntangleSettings& settings) {
+                                 std::span<const Index> free, double size, int max_steps) {
   HexUntangleResult result;
   if (free.empty() || !(size > 0)) return result;
   // The unknowns are the free points in units of `size` from the first free point, so that
@@ -173,8 +173,7 @@ HexUntangleResult untangle_hexes(std::vector<Vec3>& points, std::span<const std:
   HexEnergy energy(points, hexes, free, size);
   Eigen::VectorXd x = energy.initial();
   detail::FoldoverFreeSettings loop;
-  loop.max_steps = settings.max_steps;
-  loop.max_iterations = settings.max_iterations;
+  loop.max_steps = max_steps;
   // Armijo, and back to the start of a step whose line search failed: with Wolfe's
   // curvature test the flattened hexes of a thin tip stopped every step at once.
   loop.wolfe = false;

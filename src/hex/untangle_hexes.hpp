@@ -16,11 +16,6 @@ struct HexUntangleResult {
   int outer_iterations = 0;
 };
 
-struct HexUntangleSettings {
-  int max_steps = 30;        ///< continuation steps (updates of ε)
-  int max_iterations = 200;  ///< L-BFGS iterations per step
-};
-
 /// Moves the points `free` of the hexes (VTK order) jointly so that every corner
 /// determinant of the hexes that use them turns positive, by the continuation method of
 /// Garanzha et al. 2021 on the eight corner tets and Verdict's centre sample of each hex;
@@ -29,6 +24,6 @@ struct HexUntangleSettings {
 /// the placement with the largest smallest determinant seen, or the last one once all are
 /// positive.
 HexUntangleResult untangle_hexes(std::vector<Vec3>& points, std::span<const std::array<Index, 8>> hexes,
-                                 std::span<const Index> free, double size, const HexUntangleSettings& settings = {});
+                                 std::span<const Index> free, double size, int max_steps = 30);
 
 }  // namespace structmesh::hex_detail
