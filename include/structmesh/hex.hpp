@@ -65,11 +65,30 @@ class SurfaceProjection {
                        Vec3& barycentric) const;
   /// Squared distance from p to the surface.
   double squared_distance(const Vec3& p) const;
+  /// The surface's triangles that meet the axis-aligned cube of half-width `radius` around p
+  /// (appended to `triangles`, in no particular order).
+  void triangles_near(const Vec3& p, double radius, std::vector<Index>& triangles) const;
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+struct SurfaceMapRelaxation {
+  std::size_t folded_before = 0, folded_after = 0;  ///< source triangles whose image faces into the target
+  std::size_t moved_points = 0;
+  int sweeps = 0;
+};
+
+/// §5.2.1's local relaxation of a surface map onto a polycube: `image` holds, per point of
+/// `source`, its position on `target` (P's triangles, `onto_target` their projection). A
+/// source triangle is folded when its image's normal does not point out of the target (the
+/// mean facet axis of its points). The points of folded triangles, and more rings around
+/// them while the folds stay, move on the target towards their neighbours' centroid when that
+/// raises the worst orientation of their triangles, until nothing is folded or after
+/// `max_sweeps` sweeps.
+SurfaceMapRelaxation relax_surface_map(const TriMesh& source, std::vector<Vec3>& image, const TriMesh& target,
+                                       const SurfaceProjection& onto_target, int max_sweeps = 100);
 
 struct HexSmoothingOptions {
   int iterations = 100;       ///< sweeps over all points (fewer when the gains stop)
@@ -105,17 +124,16 @@ HexSmoothingResult smooth_hex_mesh(HexMesh& mesh, const std::function<Vec3(const
 // ---------------------------------------------------------------------------
 // The volumetric polycube map (§5.2) and the whole pipeline
 
-/// The preprocessing of §5.2.2: in every tet whose four points are boundary points (index <
-/// boundary_points), its longest edge that is not a surface edge (for a tet with two
-/// boundary faces, the edge between them) is split at its midpoint, in every tet around
-/// that edge, so no tet is fixed entirely by the boundary constraints. The mesh stays
-/// conforming and positively oriented; new points are appended. Returns the number of
-/// edges split.
+/// The preprocessing of §5.2.2, extended: every edge between two boundary points (index <
+/// boundary_points) that is not a surface edge is split at its midpoint, in every tet around
+/// it, so no tet is fixed entirely by the boundary constraints and no straight segment
+/// between two pinned points must stay inside the target. The mesh stays conforming and
+/// positively oriented; new points are appended. Returns the number of edges split.
 std::size_t split_boundary_tets(TetMesh& tets, std::size_t boundary_points);
 
 struct VolumetricMapOptions {
   int frame_smoothing_iterations = 0;  ///< 0: a direct sparse solve of the frames' smoothness
-  int untangle_sweeps = 100;           ///< at most this many sweeps of local untangling
+  int untangle_sweeps = 300;           ///< at most this many sweeps of local untangling
   /// Where boundary point i goes, when not empty (one per boundary point): the polycube
   /// P's points nearest to Q's, so the parameter domain is P's solid (§5.2.1). The frames
   /// still come from boundary_target's triangles, which projection onto P can fold.
@@ -172,15 +190,23 @@ struct HexResult {
   TetMesh tets;                 ///< the input solid's tet mesh
   std::size_t split_edges = 0;  ///< edges split by split_boundary_tets()
   std::vector<Vec3> parameter;  ///< its points in the parameter domain
-  VolumetricMap map;            ///< statistics of the map
-  double hex_size = 0;          ///< the grid's target edge length in the parameter domain
+  /// §5.2.1's relaxation of Q's projection onto P (the map's boundary); empty when the map
+  /// ends on Q (plane merging off)
+  SurfaceMapRelaxation surface_map;
+  VolumetricMap map;    ///< statistics of the map
+  double hex_size = 0;  ///< the grid's target edge length in the parameter domain
   std::size_t padding_hexes = 0;
   std::size_t interior_points_outside = 0;  ///< grid points outside Q, put on it before smoothing
   HexSmoothingResult smoothing;
   HexQuality quality;
   double geometric_deviation = 0;  ///< D_g: Hausdorff(hex boundary, input) / input diagonal
-  bool merging_retried = false;    ///< the first mesh had inverted hexes and was made again unmerged
-  bool unmerged_kept = false;      ///< ... and the unmerged one was better, so this is it
+  /// The map's untangling released boundary points, and the mesh made with the grid's
+  /// boundary on the map's boundary kept an inverted hex or lost a part of the model (D_g >
+  /// 0.1): the extraction was made again with the boundary on P ...
+  bool extraction_retried = false;
+  bool boundary_from_p_kept = false;  ///< ... and that mesh was better, so this is it
+  bool merging_retried = false;       ///< the first mesh had inverted hexes and was made again unmerged
+  bool unmerged_kept = false;         ///< ... and the unmerged one was better, so this is it
   std::vector<std::pair<std::string, double>> stage_seconds;
 };
 

@@ -1,14 +1,17 @@
 // split_boundary_tets(): the preprocessing of §5.2.2 ("each boundary tetrahedron only has
-// one boundary face ... by splitting each tetrahedron that has two or more").
+// one boundary face ... by splitting each tetrahedron that has two or more"), taken one step
+// further: every edge between two surface points that is not itself a surface edge is split.
 //
-// A tet whose four points all lie on the surface has its image fixed by the boundary
-// constraints: where the pseudo-polycube flattens a sharp ridge of S, the tet holding both
-// faces of the ridge inverts and nothing the map solves for can unfold it. Splitting it at
-// its centroid does not help (the four pieces' volumes add up to the inverted whole); the
-// interior edge between its two boundary faces is split instead, at its midpoint, in every
-// tet around that edge, so each half holds one boundary face and a point the map can move
-// into the reflex wedge the two faces now make. Tets with four boundary points and one
-// boundary face get their longest interior edge split the same way.
+// Such an edge is a straight segment whose two ends the map pins to the polycube. Where the
+// target is concave between them (the pseudo-polycube flattens a sharp ridge of S, or the
+// projection onto P bends the surface around an edge of P), the segment's image leaves the
+// solid and the tets around it invert, whatever the map does with its interior points. The
+// dissertation's case is the tet with four surface points (both faces of a ridge): splitting
+// it at its centroid does not help (the pieces' volumes add up to the inverted whole). Split
+// at its midpoint, in every tet around it, the edge becomes two edges with a point the map can
+// move. Splitting only the edges of tets with four surface points left the map onto P with
+// tets it could not unfold (fertility: 45 after untangling; with every such edge split and
+// the surface relaxed, 7).
 //
 // Every tet around an edge is split in two by replacing one end of the edge by the
 // midpoint, which keeps the orientation. A tet holding several chosen edges is split edge
@@ -76,23 +79,18 @@ std::size_t split_boundary_tets(TetMesh& tets, std::size_t boundary_points) {
 
   std::unordered_map<std::uint64_t, ChosenEdge> chosen;
   std::vector<std::array<Index, 2>> chosen_list;
-  for (const auto& tet : tets.tets) {
-    if (!std::all_of(tet.begin(), tet.end(), [&](Index v) { return v < boundary_points; })) continue;
-    double longest = -1;
-    std::array<Index, 2> pick{kInvalidIndex, kInvalidIndex};
+  for (const auto& tet : tets.tets)
     for (const auto& e : kTetEdges) {
       const Index a = tet[e[0]], b = tet[e[1]];
-      if (surface_edges.count(edge_key(a, b))) continue;
-      const double length = (tets.points[a] - tets.points[b]).squaredNorm();
-      if (length > longest) longest = length, pick = {a, b};
+      if (a >= boundary_points || b >= boundary_points || surface_edges.count(edge_key(a, b)) ||
+          chosen.count(edge_key(a, b)))
+        continue;
+      if (tets.points.size() >= kInvalidIndex) throw InputError("split_boundary_tets: more than 2^32 - 1 points");
+      const auto midpoint = static_cast<Index>(tets.points.size());
+      tets.points.push_back((tets.points[a] + tets.points[b]) / 2);
+      chosen.emplace(edge_key(a, b), ChosenEdge{chosen_list.size(), midpoint});
+      chosen_list.push_back({a, b});
     }
-    if (pick[0] == kInvalidIndex || chosen.count(edge_key(pick[0], pick[1]))) continue;  // a cap of three faces
-    if (tets.points.size() >= kInvalidIndex) throw InputError("split_boundary_tets: more than 2^32 - 1 points");
-    const auto midpoint = static_cast<Index>(tets.points.size());
-    tets.points.push_back((tets.points[pick[0]] + tets.points[pick[1]]) / 2);
-    chosen.emplace(edge_key(pick[0], pick[1]), ChosenEdge{chosen_list.size(), midpoint});
-    chosen_list.push_back(pick);
-  }
   if (chosen.empty()) return 0;
 
   // The tets around the chosen edges: those holding both ends.

@@ -156,6 +156,14 @@ bool SurfaceProjection::nearest_on_line(const Vec3& p, const Vec3& direction, do
   return true;
 }
 
+void SurfaceProjection::triangles_near(const Vec3& p, double radius, std::vector<Index>& triangles) const {
+  const Kernel::Iso_cuboid_3 box(to_cgal(p - Vec3::Constant(radius)), to_cgal(p + Vec3::Constant(radius)));
+  std::vector<Primitive::Id> hits;
+  impl_->tree.all_intersected_primitives(box, std::back_inserter(hits));
+  for (const auto& hit : hits)
+    triangles.push_back(impl_->original[static_cast<std::size_t>(hit - impl_->triangles.cbegin())]);
+}
+
 double SurfaceProjection::squared_distance(const Vec3& p) const {
   return CGAL::to_double(impl_->tree.squared_distance(to_cgal(p)));
 }

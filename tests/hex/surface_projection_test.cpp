@@ -6,8 +6,10 @@
 #include <gtest/gtest.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
+#include <vector>
 
 namespace structmesh {
 namespace {
@@ -99,6 +101,22 @@ TEST(SurfaceProjection, DegenerateTrianglesAreLeftOutAndIndicesStayTheSurfaces) 
   flat.points = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0)};
   flat.triangles = {{0, 1, 2}};
   EXPECT_THROW(SurfaceProjection{flat}, InputError);
+}
+
+TEST(SurfaceProjection, TrianglesNearAPointOfAnEdgeAreThoseOfBothFaces) {
+  const SurfaceProjection projection(unit_cube());
+  const auto near = [&](const Vec3& p, double radius) {
+    std::vector<Index> triangles;
+    projection.triangles_near(p, radius, triangles);
+    std::sort(triangles.begin(), triangles.end());
+    return triangles;
+  };
+  // (1, 1, 0.5) is on the edge 2-6 between the faces x = 1 and y = 1: triangles (1, 2, 6)
+  // and (2, 7, 6) hold it; (1, 6, 5) and (2, 3, 7) only come within 0.5 of it.
+  EXPECT_EQ(near(Vec3(1, 1, 0.5), 1e-9), (std::vector<Index>{6, 9}));
+  EXPECT_EQ(near(Vec3(0.75, 0.25, 1), 1e-9), (std::vector<Index>{2}));  // inside the top face
+  EXPECT_TRUE(near(Vec3(0.5, 0.5, 0.5), 0.4).empty());                  // the cube's centre
+  EXPECT_EQ(near(Vec3(0.5, 0.5, 0.5), 0.5).size(), 12u);                // its box reaches every face
 }
 
 TEST(SurfaceProjection, RejectsAnEmptySurface) {

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <set>
 
 namespace structmesh {
 namespace {
@@ -166,6 +167,17 @@ TEST(SplitBoundaryTets, NoTetIsPinnedByTheBoundaryAndTheMeshStaysConforming) {
   const FaceAdjacency<3> faces = build_faces(tets);
   EXPECT_TRUE(faces.extra_cells.empty());
   EXPECT_EQ(boundary_surface(tets).triangles.size(), boundary_faces_before);
+  // No edge joins two boundary points unless it is an edge of the box's triangles.
+  std::set<std::pair<Index, Index>> surface_edges;
+  for (const auto& t : box.triangles)
+    for (int k = 0; k < 3; ++k) surface_edges.emplace(std::minmax(t[k], t[(k + 1) % 3]));
+  for (const auto& t : tets.tets)
+    for (const auto& e : kTetEdges) {
+      const Index a = t[e[0]], b = t[e[1]];
+      if (a < box.points.size() && b < box.points.size()) {
+        EXPECT_TRUE(surface_edges.count(std::minmax(a, b))) << a << " " << b;
+      }
+    }
   // Nothing to do the second time.
   EXPECT_EQ(split_boundary_tets(tets, box.points.size()), 0u);
   EXPECT_THROW(split_boundary_tets(tets, tets.points.size() + 1), InputError);
