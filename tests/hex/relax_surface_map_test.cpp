@@ -1,7 +1,7 @@
 // relax_surface_map (§5.2.1's relaxation of the surface map onto the polycube): folds put into
 // the image of a subdivided box on the unit cube come out, the points stay on the cube, and a
 // map without folds is left as it is.
-#include "../polycube/shapes.hpp"
+#include "polycube/shapes.hpp"
 #include "structmesh/hex.hpp"
 
 #include <gtest/gtest.h>
@@ -13,19 +13,6 @@
 
 namespace structmesh {
 namespace {
-
-TriMesh unit_cube() {
-  TriMesh cube;
-  for (int k = 0; k < 2; ++k) {
-    cube.points.emplace_back(0, 0, k);
-    cube.points.emplace_back(1, 0, k);
-    cube.points.emplace_back(1, 1, k);
-    cube.points.emplace_back(0, 1, k);
-  }
-  cube.triangles = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
-                    {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
-  return cube;
-}
 
 // Triangles of the source whose three image points lie in one face of the unit cube and whose
 // image faces into the cube there (checked against the face's outward axis, not the
@@ -57,7 +44,7 @@ ImageCheck check(const TriMesh& source, const std::vector<Vec3>& image) {
 
 TEST(RelaxSurfaceMap, AnUnfoldedMapStaysAsItIs) {
   const TriMesh source = test::subdivided_box(1, 1, 1, 6);
-  const TriMesh cube = unit_cube();
+  const TriMesh cube = test::unit_cube();
   const SurfaceProjection onto_cube(cube);
   std::vector<Vec3> image = source.points;
   const SurfaceMapRelaxation result = relax_surface_map(source, image, cube, onto_cube);
@@ -69,7 +56,7 @@ TEST(RelaxSurfaceMap, AnUnfoldedMapStaysAsItIs) {
 
 TEST(RelaxSurfaceMap, ShuffledPointsOfAFaceUnfold) {
   const TriMesh source = test::subdivided_box(1, 1, 1, 8);
-  const TriMesh cube = unit_cube();
+  const TriMesh cube = test::unit_cube();
   const SurfaceProjection onto_cube(cube);
   // The points inside the top face are thrown up to 1.2 grid steps within it: their order
   // no longer matches the source's and many triangles fold.
@@ -93,7 +80,7 @@ TEST(RelaxSurfaceMap, ShuffledPointsOfAFaceUnfold) {
 
 TEST(RelaxSurfaceMap, AFoldAcrossAnEdgeOfTheCubeUnfolds) {
   const TriMesh source = test::subdivided_box(1, 1, 1, 8);
-  const TriMesh cube = unit_cube();
+  const TriMesh cube = test::unit_cube();
   const SurfaceProjection onto_cube(cube);
   // A strip of the top face next to the edge x = 1 is pushed over the edge onto the side
   // face x = 1, past the side face's own first row: the two sheets overlap there.

@@ -1,5 +1,6 @@
 // SurfaceProjection on the unit cube's surface: closest points, triangles and barycentric
 // coordinates known by hand, and parallel queries equal to serial ones.
+#include "polycube/shapes.hpp"
 #include "structmesh/error.hpp"
 #include "structmesh/hex.hpp"
 
@@ -14,22 +15,8 @@
 namespace structmesh {
 namespace {
 
-// The unit cube, two outward triangles per face; triangle 2 is (4, 5, 6) on the top face.
-TriMesh unit_cube() {
-  TriMesh cube;
-  for (int k = 0; k < 2; ++k) {
-    cube.points.emplace_back(0, 0, k);
-    cube.points.emplace_back(1, 0, k);
-    cube.points.emplace_back(1, 1, k);
-    cube.points.emplace_back(0, 1, k);
-  }
-  cube.triangles = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
-                    {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
-  return cube;
-}
-
 TEST(SurfaceProjection, ClosestPointsOfTheUnitCube) {
-  const SurfaceProjection projection(unit_cube());
+  const SurfaceProjection projection(test::unit_cube());
   Index triangle = kInvalidIndex;
   Vec3 weights;
   // Above the top face, over the half y < x: triangle (4, 5, 6) with
@@ -49,20 +36,20 @@ TEST(SurfaceProjection, ClosestPointsOfTheUnitCube) {
   EXPECT_NEAR((corner - Vec3(1, 1, 1)).norm(), 0.0, 1e-12);
   EXPECT_NEAR(projection.squared_distance(Vec3(2, 3, 4)), 1 + 4 + 9, 1e-12);
   EXPECT_NEAR(weights.maxCoeff(), 1.0, 1e-12);
-  const TriMesh cube = unit_cube();
+  const TriMesh cube = test::unit_cube();
   Vec3 rebuilt = Vec3::Zero();
   for (int i = 0; i < 3; ++i) rebuilt += weights[i] * cube.points[cube.triangles[triangle][i]];
   EXPECT_NEAR((rebuilt - corner).norm(), 0.0, 1e-12);
 }
 
 TEST(SurfaceProjection, MovedProjectionAnswersTheSame) {
-  SurfaceProjection first(unit_cube());
+  SurfaceProjection first(test::unit_cube());
   SurfaceProjection second = std::move(first);
   EXPECT_NEAR((second.closest_point(Vec3(-1, 0.5, 0.5)) - Vec3(0, 0.5, 0.5)).norm(), 0.0, 1e-12);
 }
 
 TEST(SurfaceProjection, ParallelQueriesEqualSerialOnes) {
-  const SurfaceProjection projection(unit_cube());
+  const SurfaceProjection projection(test::unit_cube());
   std::vector<Vec3> queries;
   for (int i = 0; i < 2000; ++i) queries.emplace_back(std::sin(i * 0.37) * 2, std::cos(i * 0.11) * 2, (i % 17) * 0.13);
   std::vector<Vec3> serial(queries.size()), parallel(queries.size());
@@ -81,7 +68,7 @@ TEST(SurfaceProjection, ParallelQueriesEqualSerialOnes) {
 TEST(SurfaceProjection, DegenerateTrianglesAreLeftOutAndIndicesStayTheSurfaces) {
   // The cube with a collinear triangle first (all later indices shift by one) and a
   // zero-area triangle with a repeated point at the end.
-  TriMesh cube = unit_cube();
+  TriMesh cube = test::unit_cube();
   cube.points.emplace_back(0.5, 0, 1);  // 8: the midpoint of edge 4-5
   cube.triangles.insert(cube.triangles.begin(), {4, 8, 5});
   cube.triangles.push_back({6, 6, 7});
@@ -104,7 +91,7 @@ TEST(SurfaceProjection, DegenerateTrianglesAreLeftOutAndIndicesStayTheSurfaces) 
 }
 
 TEST(SurfaceProjection, TrianglesNearAPointOfAnEdgeAreThoseOfBothFaces) {
-  const SurfaceProjection projection(unit_cube());
+  const SurfaceProjection projection(test::unit_cube());
   const auto near = [&](const Vec3& p, double radius) {
     std::vector<Index> triangles;
     projection.triangles_near(p, radius, triangles);
@@ -121,7 +108,7 @@ TEST(SurfaceProjection, TrianglesNearAPointOfAnEdgeAreThoseOfBothFaces) {
 
 TEST(SurfaceProjection, RejectsAnEmptySurface) {
   EXPECT_THROW(SurfaceProjection(TriMesh{}), InputError);
-  TriMesh broken = unit_cube();
+  TriMesh broken = test::unit_cube();
   broken.triangles[3][1] = 8;
   EXPECT_THROW(SurfaceProjection{broken}, InputError);
 }

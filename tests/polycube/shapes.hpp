@@ -29,6 +29,20 @@ inline TriMesh torus(double big, double small, int u, int v) {
   return mesh;
 }
 
+/// The unit cube, two outward triangles per face; triangle 2 is (4, 5, 6) on the top face.
+inline TriMesh unit_cube() {
+  TriMesh cube;
+  for (int k = 0; k < 2; ++k) {
+    cube.points.emplace_back(0, 0, k);
+    cube.points.emplace_back(1, 0, k);
+    cube.points.emplace_back(1, 1, k);
+    cube.points.emplace_back(0, 1, k);
+  }
+  cube.triangles = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                    {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
+  return cube;
+}
+
 /// A box [0, a] x [0, b] x [0, c] with each face cut into n x n squares (two triangles each).
 inline TriMesh subdivided_box(double a, double b, double c, int n) {
   TriMesh mesh;
