@@ -49,6 +49,9 @@ using Clock = std::chrono::steady_clock;
 // on the benchmark models a sound mesh stays under 0.07.
 constexpr double kLostPartDeviation = 0.1;
 
+/// Hexes that are inverted or invalid: what a retry must lower first.
+std::size_t bad_hexes(const HexQuality& quality) { return quality.inverted + quality.invalid; }
+
 class StageTimer {
  public:
   explicit StageTimer(std::vector<std::pair<std::string, double>>& stages) : stages_(stages) {}
@@ -314,9 +317,8 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
   TriMesh map_boundary = on_p;
   std::copy_n(result.parameter.begin(), map_boundary.points.size(), map_boundary.points.begin());
   extract(map_boundary, "");
-  const auto bad = [](const HexResult& r) { return r.quality.inverted + r.quality.invalid; };
   if (result.map.released_boundary_points == 0 ||
-      (bad(result) == 0 && result.geometric_deviation <= kLostPartDeviation))
+      (bad_hexes(result.quality) == 0 && result.geometric_deviation <= kLostPartDeviation))
     return result;
   HexMesh first_mesh = std::move(result.mesh);
   const HexSmoothingResult first_smoothing = result.smoothing;
@@ -325,8 +327,8 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
   extract(on_p, " (boundary on P)");
   result.extraction_retried = true;
   const bool second_better =
-      bad(result) < first_quality.inverted + first_quality.invalid ||
-      (bad(result) == first_quality.inverted + first_quality.invalid && result.geometric_deviation < first_deviation);
+      bad_hexes(result.quality) < bad_hexes(first_quality) ||
+      (bad_hexes(result.quality) == bad_hexes(first_quality) && result.geometric_deviation < first_deviation);
   if (!second_better) {
     result.mesh = std::move(first_mesh);
     result.smoothing = first_smoothing;
@@ -347,8 +349,7 @@ HexResult polycube_hex_mesh(const TriMesh& surface, const HexOptions& options) {
   // needs folds where Q's charts do not match P's facets (fertility: 40 tets stay flipped,
   // 39 hexes inverted). A valid mesh comes first: then the polycube is rebuilt without
   // merging (P within a voxel of Q, the map onto Q), and the better of the two is kept.
-  if (result.quality.inverted + result.quality.invalid == 0 || options.polycube.merge_planes_within <= 0 ||
-      !options.retry_without_merging)
+  if (bad_hexes(result.quality) == 0 || options.polycube.merge_planes_within <= 0 || !options.retry_without_merging)
     return result;
   if (options.progress)
     status("hex: " + std::to_string(result.quality.inverted) +
@@ -356,9 +357,8 @@ HexResult polycube_hex_mesh(const TriMesh& surface, const HexOptions& options) {
   HexOptions unmerged = options;
   unmerged.polycube.merge_planes_within = 0;
   HexResult second = polycube_hex_mesh_once(surface, unmerged);
-  const auto bad = [](const HexResult& r) { return r.quality.inverted + r.quality.invalid; };
-  const bool better = bad(second) < bad(result) ||
-                      (bad(second) == bad(result) &&
+  const bool better = bad_hexes(second.quality) < bad_hexes(result.quality) ||
+                      (bad_hexes(second.quality) == bad_hexes(result.quality) &&
                        second.quality.scaled_jacobian_stats.min > result.quality.scaled_jacobian_stats.min);
   std::vector<std::pair<std::string, double>> first_stages = std::move(result.stage_seconds);
   if (better)
