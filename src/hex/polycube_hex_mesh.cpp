@@ -147,8 +147,8 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
   // §5.2.2: the volumetric map onto the pseudo-polycube's solid.
   VolumetricMapOptions map_options;
   map_options.progress = options.progress;
-  // The boundary goes onto P itself (§5.2.1's projection of Q onto P; the map's untangling
-  // is the relaxation): P differs from Q by the optimisation's and the plane merging's
+  // The boundary goes onto P itself (§5.2.1's projection of Q onto P, then the relaxation
+  // of the folds it makes): P differs from Q by the optimisation's and the plane merging's
   // moves, up to a few voxels, and with Q as the domain the grid points of P outside Q
   // were all put on the surface, folding whole layers.
   // Without plane merging P stays within about a voxel of Q and the map ends on Q.
@@ -198,31 +198,35 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
   result.parameter = result.map.parameter;
   timer.stop("volumetric map");
 
-  // The hex extraction (grid, phi^-1, padding, smoothing, measures) with the grid's boundary
-  // points sent to `boundary_image` (Q's triangles where the map put them).
-  auto extract = [&](const TriMesh& boundary_image, const std::string& suffix) {
-    HexMesh grid = polycube_hex_grid(polycube.voxels, result.hex_size);
-    if (grid.hexes.empty()) throw Error("hex: the polycube has no voxels");
-    if (options.progress)
-      status("hex: grid of " + std::to_string(grid.hexes.size()) + " hexes (hex size " + significant(result.hex_size) +
-             ")");
-    timer.stop("hex grid" + suffix);
+  const HexMesh polycube_grid = polycube_hex_grid(polycube.voxels, result.hex_size);
+  if (polycube_grid.hexes.empty()) throw Error("hex: the polycube has no voxels");
+  if (options.progress)
+    status("hex: grid of " + std::to_string(polycube_grid.hexes.size()) + " hexes (hex size " +
+           significant(result.hex_size) + ")");
+  // phi^-1: boundary points go to Q along their polycube normal (the sum of the axes of
+  // their boundary quads, so a corner of P goes to the corner of Q and an edge point to the
+  // edge), as §5.2.1 projects along normals, falling back to the closest point when that
+  // line misses Q nearby; interior points are located in M's parameter image. Both are
+  // interpolated barycentrically onto the aligned input.
+  const std::vector<std::array<Index, 4>> boundary_quads = hex_boundary_quads(polycube_grid);
+  std::vector<std::uint8_t> axes_of(polycube_grid.points.size(), 0);  // bit per axis label of its boundary quads
+  for (const auto& q : boundary_quads) {
+    const auto& points = polycube_grid.points;
+    const Vec3 normal = (points[q[2]] - points[q[0]]).cross(points[q[3]] - points[q[1]]);
+    const int label = nearest_axis_label(normal);
+    for (Index v : q) axes_of[v] |= static_cast<std::uint8_t>(1u << label);
+  }
+  const hex_detail::TetLocator locator(result.parameter, result.tets.tets);
+  const double voxel = polycube.voxels.size;
+  const SurfaceProjection onto_input(surface);  // the post-smoothing's boundary
+  timer.stop("hex grid");
 
-    // phi^-1: boundary points go to Q along their polycube normal (the sum of the axes of
-    // their boundary quads, so a corner of P goes to the corner of Q and an edge point to the
-    // edge), as §5.2.1 projects along normals, falling back to the closest point when that
-    // line misses Q nearby; interior points are located in M's parameter image. Both are
-    // interpolated barycentrically onto the aligned input.
-    const std::vector<std::array<Index, 4>> boundary_quads = hex_boundary_quads(grid);
-    std::vector<std::uint8_t> axes_of(grid.points.size(), 0);  // bit per axis label of the point's boundary quads
-    for (const auto& q : boundary_quads) {
-      const Vec3 normal = (grid.points[q[2]] - grid.points[q[0]]).cross(grid.points[q[3]] - grid.points[q[1]]);
-      const int label = nearest_axis_label(normal);
-      for (Index v : q) axes_of[v] |= static_cast<std::uint8_t>(1u << label);
-    }
+  // The hex extraction (phi^-1, padding, smoothing, measures) with the grid's boundary points
+  // sent to `boundary_image` (Q's triangles where the map put them). What does not depend on
+  // the boundary image is made once above: the extraction may run twice (below).
+  auto extract = [&](const TriMesh& boundary_image, const std::string& suffix) {
+    HexMesh grid = polycube_grid;
     const SurfaceProjection onto_q(boundary_image);
-    const hex_detail::TetLocator locator(result.parameter, result.tets.tets);
-    const double voxel = polycube.voxels.size;
     std::vector<Vec3> mapped(grid.points.size());
     std::vector<std::uint8_t> outside(grid.points.size(), 0);
     auto on_input = [&](Index triangle, const Vec3& b) {  // b: clamped and normalised by SurfaceProjection
@@ -289,7 +293,6 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
     timer.stop("padding" + suffix);
 
     // Post-smoothing: untangle, then raise the worst scaled Jacobian, boundary on the input.
-    const SurfaceProjection onto_input(surface);
     HexSmoothingOptions smoothing = options.smoothing;
     smoothing.progress = options.progress || smoothing.progress;
     if (options.features && smoothing.feature_angle_degrees == 0) smoothing.feature_angle_degrees = 30;

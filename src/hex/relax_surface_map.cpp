@@ -9,9 +9,10 @@
 // 1,624 tets inverted before untangling, 1,273 touch one of its 1,018 folded triangles).
 //
 // The relaxation moves the points of folded triangles, and rings of points around them, on P.
-// A triangle's orientation is measured against P's outward normal where its image lies (the
-// facet axis its points share, else the axis of the facet nearest to its centroid); folded
-// means its image's normal does not point out (a degenerate image counts as folded). Each
+// A triangle's orientation is measured against P's outward normal where its image lies: the
+// mean of its points' normals, a point's normal being the sum of the axes of the facets it
+// lies on (two on an edge of P, three at a corner). Folded means its image's normal does not
+// point out (a degenerate image counts as folded). Each
 // free point first takes Gauss-Newton steps, in the plane of its facet and projected back onto
 // P, on Knupp's untangling function of its triangles, sum (A_min - A_t)^2 over the triangles
 // whose signed image area A_t (along the outward normal) is below A_min = 5% of the source
@@ -21,7 +22,7 @@
 // step, a half, a quarter) and keeps the first that raises the worst orientation of its
 // triangles without raising the function. When three sweeps unfold nothing, one more ring of
 // points around the folds is set free. Centroid steps alone (the first version) left 76 of the
-// hand's 303 folds and 252 of the rocker arm's 758; with the Gauss-Newton steps, 3 and 0.
+// hand's 303 folds and 252 of the rocker arm's 758; with the Gauss-Newton steps, none.
 #include "structmesh/hex.hpp"
 #include "structmesh/polycube.hpp"
 

@@ -11,7 +11,7 @@
 // at its midpoint, in every tet around it, the edge becomes two edges with a point the map can
 // move. Splitting only the edges of tets with four surface points left the map onto P with
 // tets it could not unfold (fertility: 45 after untangling; with every such edge split and
-// the surface relaxed, 7).
+// the surface relaxed, 8).
 //
 // Every tet around an edge is split in two by replacing one end of the edge by the
 // midpoint, which keeps the orientation. A tet holding several chosen edges is split edge
