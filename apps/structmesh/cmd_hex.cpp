@@ -201,6 +201,7 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
                    {"handles", result.polycube.final.handles},
                    {"deformation_rounds", result.polycube.pseudo.iterations},
                    {"deformation_retries", result.polycube.deformation_retries},
+                   {"thin_feature_voxels", result.polycube.thin_feature_voxels},
                    {"facet_planes", result.polycube.plane_merge.planes_after},
                    {"merged_planes_retried", result.merging_retried},
                    {"unmerged_kept", result.unmerged_kept}}},

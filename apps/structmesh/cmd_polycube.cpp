@@ -155,6 +155,7 @@ Action add_polycube_command(CLI::App& command, const GlobalOptions& global) {
          {"voxels", result.voxels.count()},
          {"refinements", result.refinements},
          {"deformation_retries", result.deformation_retries},
+         {"thin_feature_voxels", result.thin_feature_voxels},
          {"plane_merge",
           {{"planes_before", result.plane_merge.planes_before},
            {"planes_after", result.plane_merge.planes_after},

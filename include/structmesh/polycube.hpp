@@ -179,6 +179,14 @@ MorseResolution morse_voxel_size(const TriMesh& surface, double epsilon, double 
 /// size <= 0 or more than `max_voxels` voxels.
 VoxelGrid voxelize(const TriMesh& surface, double size, std::size_t max_voxels = 200'000'000);
 
+/// For parts of the surface thinner than a voxel, which voxelize() turns into a sieve of
+/// voxels (each hole a handle the input lacks): adds every empty voxel whose closed cube
+/// the surface meets, then removes those again while they are simple, farthest from the
+/// surface first, until no more can go. The voxel set then has the topology of the set
+/// of voxels inside or on the surface. Returns the number of voxels added that stayed.
+/// InputError for a surface with no triangles.
+std::size_t cover_thin_features(VoxelGrid& grid, const TriMesh& surface);
+
 /// Unsigned distance from the grid vertices (VoxelGrid::vertex_index) to the surface,
 /// exact (closest point) for the vertices within `band` voxels (Chebyshev) of a square
 /// on the boundary of the voxel union, where the optimisation can move that boundary;
@@ -308,6 +316,9 @@ struct PolycubeResult {
   /// kept the topology of the deformed surface Q (the deformation brought two parts of
   /// the surface closer than a voxel, or made it touch itself).
   int deformation_retries = 0;
+  /// Voxels cover_thin_features() added because the voxels with centres inside Q did
+  /// not keep its topology at the size used (0: not needed).
+  std::size_t thin_feature_voxels = 0;
   PolycubeOptimizationResult optimization;  ///< its `after` energy includes the plane merging
   PolycubeEnergy before_merge;              ///< the optimisation's own result, before plane merging
   PlaneMergeResult plane_merge;

@@ -31,6 +31,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace structmesh {
@@ -48,6 +49,9 @@ using Clock = std::chrono::steady_clock;
 // D_g (over the bounding-box diagonal) beyond which a hex mesh has lost a part of the model:
 // on the benchmark models a sound mesh stays under 0.07.
 constexpr double kLostPartDeviation = 0.1;
+// The extraction is also made again from P when the first one's worst hex is below this
+// (the target for the worst scaled Jacobian).
+constexpr double kRetryBelowQuality = 0.3;
 
 /// Hexes that are inverted or invalid: what a retry must lower first.
 std::size_t bad_hexes(const HexQuality& quality) { return quality.inverted + quality.invalid; }
@@ -314,14 +318,15 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
   // boundary points, that is where they ended, not their place on P (read from P, the grid
   // and the map disagree there: the worst hex of the screwdriver was 0.12 against 0.58, of
   // fertility 0.10 against 0.63). But a released point may end far off P (the bunny's, 74
-  // voxels), and the mesh's boundary then follows it: the bunny lost a part (D_g 0.16). So
-  // when the mesh strays that far from the input, or a hex stays inverted, the extraction is
-  // made again from P and the better mesh is kept.
+  // voxels), and the hexes the mesh stretches to follow it are poor (the bunny's worst 0.06
+  // from the map's boundary, 0.22 from P). So when the mesh strays that far from the input, a hex stays inverted or the
+  // worst is below kRetryBelowQuality, the extraction is made again from P and the better mesh is kept.
   TriMesh map_boundary = on_p;
   std::copy_n(result.parameter.begin(), map_boundary.points.size(), map_boundary.points.begin());
+  const bool retry_possible = result.map.released_boundary_points > 0;
   extract(map_boundary, "");
-  if (result.map.released_boundary_points == 0 ||
-      (bad_hexes(result.quality) == 0 && result.geometric_deviation <= kLostPartDeviation))
+  if (!retry_possible || (bad_hexes(result.quality) == 0 && result.geometric_deviation <= kLostPartDeviation &&
+                          result.quality.scaled_jacobian_stats.min >= kRetryBelowQuality))
     return result;
   HexMesh first_mesh = std::move(result.mesh);
   const HexSmoothingResult first_smoothing = result.smoothing;
@@ -329,9 +334,11 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
   const double first_deviation = result.geometric_deviation;
   extract(on_p, " (boundary on P)");
   result.extraction_retried = true;
-  const bool second_better =
-      bad_hexes(result.quality) < bad_hexes(first_quality) ||
-      (bad_hexes(result.quality) == bad_hexes(first_quality) && result.geometric_deviation < first_deviation);
+  // Fewer bad hexes first, then not having lost a part, then the worst hex.
+  const auto rank = [](const HexQuality& quality, double deviation) {
+    return std::make_tuple(bad_hexes(quality), deviation > kLostPartDeviation, -quality.scaled_jacobian_stats.min);
+  };
+  const bool second_better = rank(result.quality, result.geometric_deviation) < rank(first_quality, first_deviation);
   if (!second_better) {
     result.mesh = std::move(first_mesh);
     result.smoothing = first_smoothing;

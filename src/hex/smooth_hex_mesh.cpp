@@ -52,6 +52,11 @@ constexpr double kUntangleTarget = 0.2;
 // Rounds over the points of the inverted hexes; each round is cheap (only those points move),
 // and a round that moves nothing ends the untangling.
 constexpr int kUntangleRounds = 100;
+// More inverted hexes than this after an attempt that removed under 2% of them: the
+// release-and-retry attempts stop.
+constexpr std::size_t kBulkTangle = 50;
+// Untangling rounds without a new fewest count of inverted hexes before an attempt stops.
+constexpr int kUntangleStall = 30;
 constexpr int kUntangleSteps = 5;        // Gauss-Newton steps per point and round
 constexpr int kLineSearchHalvings = 10;  // backtracking: 1, 1/2, ... 1/1024 of the step
 constexpr double kMinimumGain = 1e-12;   // of the normalised worst determinant
@@ -72,6 +77,9 @@ constexpr std::size_t kStallWindow = 5;
 constexpr int kRegionRings = 4;
 // ... and refuses a placement that moves a point by more than this many mean edge lengths.
 constexpr double kMaxJointMove = 6.0;
+// How far untangle_point() may take a boundary point from where the smoothing found it, in
+// mean boundary edge lengths.
+constexpr double kMaxBoundaryDrift = 3.0;
 
 // Verdict's principal axes of a hex (the edges of its centre sample): X, Y, Z with the node
 // signs of kAxisSigns.
@@ -194,6 +202,7 @@ class Smoother {
         edge_sum += (mesh.points[q[i]] - mesh.points[q[(i + 1) % 4]]).norm();
       }
     release_limit_ = quads.empty() ? 0 : edge_sum / (4.0 * static_cast<double>(quads.size()));
+    origin_ = mesh.points;
     std::vector<std::uint8_t> movable(n, 0);
     for (std::size_t v = 0; v < n; ++v) movable[v] = !point_hexes_.row(v).empty() && (move_boundary || !boundary_[v]);
     // Feature points (§4.5.3): where two boundary quads around a point meet at more than
@@ -225,6 +234,14 @@ class Smoother {
 
   const std::vector<double>& scores() const { return score_; }
   std::size_t feature_points() const { return feature_points_; }
+
+  /// Puts the points back where they were (positions saved from the mesh earlier).
+  void restore_points(const std::vector<Vec3>& points) {
+    mesh_.points = points;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh_.hexes.size(), kGrain), [&](const auto& range) {
+      for (std::size_t h = range.begin(); h != range.end(); ++h) score_[h] = hex_score(h);
+    });
+  }
 
   // One round of untangling over the movable points of the inverted hexes; true if a
   // point moved. A point that cannot raise its smallest determinant alone (its neighbours
@@ -489,6 +506,11 @@ class Smoother {
       double t = 1;
       for (int halving = 0; halving <= kLineSearchHalvings && !accepted; ++halving, t *= 0.5) {
         const Vec3 candidate = put_back(v, position + t * direction);
+        // The determinants grow with the hexes: on the surface, nothing else holds a point
+        // that stretches its hexes, and step by step it can walk across the solid (the
+        // bunny's: 1.3 units, half the diagonal; its quads then spanned the solid, D_g
+        // 0.16). Boundary points stay within kMaxBoundaryDrift boundary edges of their start.
+        if (boundary_[v] && (candidate - origin_[v]).norm() > kMaxBoundaryDrift * release_limit_) continue;
         const double value = worst(candidate);
         if (value > current + kMinimumGain && !inverts_a_positive_sample(candidate)) {
           position = candidate;
@@ -653,6 +675,7 @@ class Smoother {
   std::vector<std::uint8_t> released_;  // boundary points no longer put back on the surface
   std::vector<std::uint8_t> movable_;   // neither fixed boundary nor feature points
   double release_limit_ = 0;            // how far a released point may leave the surface
+  std::vector<Vec3> origin_;            // where the points were before the smoothing
   bool any_released_ = false;
   // Smoothing sweeps: the colour epoch at which each point last moved and was last tried.
   std::vector<std::uint32_t> moved_at_, tried_at_;
@@ -690,25 +713,58 @@ HexSmoothingResult smooth_hex_mesh(HexMesh& mesh, const std::function<Vec3(const
   // hold each other in place), the boundary points of the hexes still inverted are let go,
   // and from the second such attempt on a smoothing sweep moves the valid neighbours first.
   for (int attempt = 0; attempt <= 8 && current.inverted > 0; ++attempt) {
+    const std::size_t inverted_before_attempt = current.inverted;
     if (attempt > 0) {
       if (!options.move_boundary) break;
       result.released_boundary_points += smoother.release_boundary_of_inverted();
       if (attempt > 1) smoother.smoothing_sweep();
     }
-    for (int round = 0; round < kUntangleRounds && current.inverted > 0; ++round) {
+    // The rounds lower each point's worst determinant, which can raise the count of
+    // inverted hexes for dozens of rounds (the dog's first polycube: 583 after 11 rounds,
+    // 7,388 after 100). While more than kBulkTangle are inverted, kUntangleStall rounds
+    // without a new fewest end the attempt, and the points go back to where the count was
+    // fewest.
+    std::size_t fewest = current.inverted;
+    std::vector<Vec3> fewest_points;
+    if (fewest > kBulkTangle) fewest_points = mesh.points;
+    for (int round = 0, since_fewest = 0; round < kUntangleRounds && current.inverted > 0; ++round) {
       const bool moved = smoother.untangle_round();
       current = score_statistics(smoother.scores());
       if (options.progress)
         status("hex smoothing: untangling round " + std::to_string(round + 1) + ", " +
                std::to_string(current.inverted) + " inverted hexes");
+      if (current.inverted < fewest) {
+        fewest = current.inverted;
+        since_fewest = 0;
+        if (fewest > kBulkTangle)
+          fewest_points = mesh.points;
+        else
+          fewest_points.clear();
+      }
       if (!moved) break;
+      // Only in bulk: a few stuck hexes can come free after many rounds (stopped after
+      // 30, the bunny kept 2 inverted and needed the unmerged retry: 206 s against 95 s).
+      if (fewest > kBulkTangle && ++since_fewest >= kUntangleStall) break;
     }
+    if (current.inverted > fewest && !fewest_points.empty()) {
+      smoother.restore_points(fewest_points);
+      current = score_statistics(smoother.scores());
+    }
+    // A mesh tangled in bulk (thousands of hexes, as where a part of the polycube is one
+    // voxel thick) gains a handful per attempt at minutes each: the caller's retry on
+    // another polycube does better than eight more.
+    if (attempt > 0 && current.inverted > kBulkTangle &&
+        static_cast<double>(current.inverted) > 0.98 * static_cast<double>(inverted_before_attempt))
+      break;
   }
 
   // Folds the one-point moves leave: joint untangling of their regions, first with the
   // boundary on the surface, then with it free, each followed by the one-point rounds.
+  // Not for a mesh tangled in bulk: the regions merge into one the joint solve takes
+  // minutes on (the dog's first polycube: 4,600 inverted hexes, 100 s, none fewer).
   for (const bool free_boundary : {false, true}) {
-    if (current.inverted == 0 || (free_boundary && !options.move_boundary)) break;
+    if (current.inverted == 0 || current.inverted > kBulkTangle * 10 || (free_boundary && !options.move_boundary))
+      break;
     if (!smoother.untangle_regions(free_boundary)) continue;
     current = score_statistics(smoother.scores());
     for (int round = 0; round < kUntangleRounds && current.inverted > 0; ++round) {
@@ -721,11 +777,13 @@ HexSmoothingResult smooth_hex_mesh(HexMesh& mesh, const std::function<Vec3(const
              std::to_string(current.inverted) + " inverted hexes");
   }
 
+  // Nor smoothing for a mesh still tangled in bulk: the caller retries on another polycube.
+  const int sweeps = current.inverted > kBulkTangle ? 0 : options.iterations;
   std::optional<Progress> progress;
-  if (options.progress) progress.emplace("hex smoothing sweeps", static_cast<std::uint64_t>(options.iterations));
+  if (options.progress && sweeps > 0) progress.emplace("hex smoothing sweeps", static_cast<std::uint64_t>(sweeps));
   // The worst and mean scaled Jacobian after each sweep, to judge the gains over a window.
   std::vector<std::pair<double, double>> history{{current.min, current.mean()}};
-  for (int sweep = 0; sweep < options.iterations; ++sweep) {
+  for (int sweep = 0; sweep < sweeps; ++sweep) {
     const std::size_t moves = smoother.smoothing_sweep(true);
     ++result.sweeps;
     current = score_statistics(smoother.scores());

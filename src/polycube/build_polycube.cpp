@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <string>
+#include <utility>
 
 namespace structmesh {
 
@@ -27,9 +28,25 @@ bool same_topology(const VoxelTopology& a, const VoxelTopology& b) {
   return a.components == b.components && a.handles == b.handles && a.voids == b.voids;
 }
 
+// Makes `voxels` well-composed and returns what keeps its topology from the input's
+// ("" when it has the input's topology).
+std::string settle_voxels(PolycubeResult& result, VoxelGrid voxels) {
+  try {
+    result.well_composed_flips = make_well_composed(voxels);
+    result.initial = voxel_topology(voxels);
+    result.voxels = std::move(voxels);
+    if (same_topology(result.initial, result.expected)) return "";
+    return "the voxels have " + topology_text(result.initial) + ", the input " + topology_text(result.expected);
+  } catch (const Error& e) {
+    return e.what();
+  }
+}
+
 // Voxelizes Q at the Morse resolution of §4.4.1, halving the size (at most three
 // times) until make_well_composed succeeds and the voxels have the input's topology;
-// throws Error when no size does.
+// throws Error when no size does. At each size, when the voxels with centres inside Q
+// do not keep the topology, those the surface passes through are added where a thin
+// part needs them (cover_thin_features) before the size is given up.
 void voxelize_keeping_topology(PolycubeResult& result, const PolycubeOptions& options) {
   const TriMesh& q = result.pseudo.surface;
   const BoundingBox3 box = q.bounding_box();
@@ -43,15 +60,22 @@ void voxelize_keeping_topology(PolycubeResult& result, const PolycubeOptions& op
   // Refinement may go to twice max_resolution: the cap is for the first, Morse-chosen size.
   for (;;) {
     if (options.progress) status("polycube: voxelizing at size " + std::to_string(size));
-    result.voxels = voxelize(q, size);
-    std::string problem;
-    try {
-      result.well_composed_flips = make_well_composed(result.voxels);
-      result.initial = voxel_topology(result.voxels);
-      if (same_topology(result.initial, result.expected)) return;
-      problem = "the voxels have " + topology_text(result.initial) + ", the input " + topology_text(result.expected);
-    } catch (const Error& e) {
-      problem = e.what();
+    const VoxelGrid centres = voxelize(q, size);
+    result.thin_feature_voxels = 0;
+    std::string problem = settle_voxels(result, centres);
+    if (problem.empty()) return;
+    VoxelGrid covered = centres;
+    const std::size_t added = cover_thin_features(covered, q);
+    if (added > 0) {
+      const std::string second = settle_voxels(result, std::move(covered));
+      if (second.empty()) {
+        result.thin_feature_voxels = added;
+        if (options.progress)
+          status("polycube: " + problem + "; " + std::to_string(added) +
+                 " voxels the surface passes through keep its thin parts");
+        return;
+      }
+      problem += " (with the voxels the surface passes through: " + second + ")";
     }
     if (options.voxel_size > 0 || size / 2 < finest / 2 * 0.999 || result.refinements == 3)
       throw Error("polycube: at voxel size " + std::to_string(size) + ": " + problem +

@@ -97,6 +97,28 @@ bool is_simple_configuration(std::uint32_t config) {
   return (seeds & ~component(seeds & (~seeds + 1), empty, [](std::uint32_t m) { return dilate6(m); })) == 0;
 }
 
+int occupied_components(std::uint32_t config, std::array<std::uint32_t, 26>& components) {
+  std::uint32_t left = config & kAllNeighbourhood & ~kCentre;
+  int count = 0;
+  while (left != 0) {
+    const std::uint32_t part = component(left & (~left + 1), left, [](std::uint32_t m) { return dilate26(m); });
+    components[count++] = part;
+    left &= ~part;
+  }
+  return count;
+}
+
+int empty_face_components(std::uint32_t config) {
+  const std::uint32_t empty = ~config & kN18;
+  std::uint32_t seeds = empty & kFaceNeighbours;
+  int count = 0;
+  while (seeds != 0) {
+    seeds &= ~component(seeds & (~seeds + 1), empty, [](std::uint32_t m) { return dilate6(m); });
+    ++count;
+  }
+  return count;
+}
+
 }  // namespace voxel
 
 bool is_simple_voxel(const VoxelGrid& grid, int x, int y, int z) {

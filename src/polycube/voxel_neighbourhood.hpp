@@ -45,6 +45,16 @@ inline unsigned block_of_configuration(std::uint32_t config, int bx, int by, int
 /// ignored): T26 = 1 and T6 = 1. simple_voxel.cpp.
 bool is_simple_configuration(std::uint32_t config);
 
+/// The 26-connected components of the occupied voxels of a 27-bit configuration, the
+/// centre left out (T26 counts them), as masks in `components`; returns how many.
+/// simple_voxel.cpp.
+int occupied_components(std::uint32_t config, std::array<std::uint32_t, 26>& components);
+
+/// T6: the 6-connected components, within the empty 18-neighbours, that contain an empty
+/// face neighbour of the centre. Occupying the centre with T6 = 0 fills a one-voxel void;
+/// with T6 >= 2 it closes a tunnel or encloses a void. simple_voxel.cpp.
+int empty_face_components(std::uint32_t config);
+
 /// Whether none of the eight 2x2x2 blocks that contain the centre of a 27-bit
 /// configuration is critical. well_composed.cpp.
 bool is_well_composed_configuration(std::uint32_t config);
