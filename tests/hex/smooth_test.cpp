@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -167,6 +168,32 @@ TEST(SmoothHexMesh, BoundaryStaysOnASphere) {
     moved_on_sphere += mesh.points[v] != start.points[v];
   }
   EXPECT_GT(moved_on_sphere, 0u);
+}
+
+TEST(SmoothHexMesh, UntanglingKeepsBoundaryPointsNearTheirStart) {
+  // A grid tangled through its boundary layer, the boundary free to move anywhere (the
+  // "surface" is all of space): the untangling's determinants grow with the hexes, so without
+  // a bound a boundary point walks off to stretch them. It stays within 3 mean boundary edges.
+  HexMesh mesh = test::hex_grid(6, 6, 6);
+  const std::vector<std::uint8_t> boundary = boundary_points(mesh);
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> offset(-0.8, 0.8);
+  for (Vec3& p : mesh.points) p += Vec3(offset(random), offset(random), offset(random));
+  double edge_sum = 0;
+  std::size_t edges = 0;
+  for (const auto& q : hex_boundary_quads(mesh))
+    for (int i = 0; i < 4; ++i, ++edges) edge_sum += (mesh.points[q[i]] - mesh.points[q[(i + 1) % 4]]).norm();
+  const double mean_edge = edge_sum / static_cast<double>(edges);
+  const HexMesh start = mesh;
+  HexSmoothingOptions options;
+  options.iterations = 0;  // the untangling only: the sweeps' moves are bounded by their rings
+  const HexSmoothingResult result = smooth_hex_mesh(mesh, identity, options);
+  ASSERT_GT(result.inverted_before, 0u);
+  double farthest = 0;
+  for (std::size_t v = 0; v < mesh.points.size(); ++v)
+    if (boundary[v]) farthest = std::max(farthest, (mesh.points[v] - start.points[v]).norm());
+  EXPECT_LE(farthest, 3 * mean_edge + 1e-12);
+  EXPECT_GT(farthest, 0.0);
 }
 
 TEST(SmoothHexMesh, SameResultOnOneAndTwoThreads) {
