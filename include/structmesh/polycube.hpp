@@ -180,10 +180,11 @@ MorseResolution morse_voxel_size(const TriMesh& surface, double epsilon, double 
 VoxelGrid voxelize(const TriMesh& surface, double size, std::size_t max_voxels = 200'000'000);
 
 /// For parts of the surface thinner than a voxel, which voxelize() turns into a sieve of
-/// voxels (each hole a handle the input lacks): adds every empty voxel whose closed cube
-/// the surface meets, then removes those again while they are simple, farthest from the
-/// surface first, until no more can go. The voxel set then has the topology of the set
-/// of voxels inside or on the surface. Returns the number of voxels added that stayed.
+/// voxels (each hole a handle the input lacks): adds empty voxels whose closed cube the
+/// surface meets, nearest to the surface first, wherever an addition does not join a
+/// 26-connected piece to itself (no new handle), fills the voids that leaves, then removes
+/// the added voxels again while they are simple, farthest from the surface first. Returns
+/// the number of voxels added that stayed (0 and the grid unchanged when none is needed).
 /// InputError for a surface with no triangles.
 std::size_t cover_thin_features(VoxelGrid& grid, const TriMesh& surface);
 

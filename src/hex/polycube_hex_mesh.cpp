@@ -319,8 +319,9 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
   // and the map disagree there: the worst hex of the screwdriver was 0.12 against 0.58, of
   // fertility 0.10 against 0.63). But a released point may end far off P (the bunny's, 74
   // voxels), and the hexes the mesh stretches to follow it are poor (the bunny's worst 0.06
-  // from the map's boundary, 0.22 from P). So when the mesh strays that far from the input, a hex stays inverted or the
-  // worst is below kRetryBelowQuality, the extraction is made again from P and the better mesh is kept.
+  // from the map's boundary, 0.62 from P). So when the mesh strays more than
+  // kLostPartDeviation from the input, a hex stays inverted or the worst is below
+  // kRetryBelowQuality, the extraction is made again from P and the better mesh is kept.
   TriMesh map_boundary = on_p;
   std::copy_n(result.parameter.begin(), map_boundary.points.size(), map_boundary.points.begin());
   const bool retry_possible = result.map.released_boundary_points > 0;

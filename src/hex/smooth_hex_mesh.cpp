@@ -52,8 +52,9 @@ constexpr double kUntangleTarget = 0.2;
 // Rounds over the points of the inverted hexes; each round is cheap (only those points move),
 // and a round that moves nothing ends the untangling.
 constexpr int kUntangleRounds = 100;
-// More inverted hexes than this after an attempt that removed under 2% of them: the
-// release-and-retry attempts stop.
+// A mesh with more inverted hexes than this is tangled in bulk: its untangling rounds stop
+// when they stall, its attempts when one removes under 2%, and it gets no smoothing sweeps
+// (smooth_hex_mesh below).
 constexpr std::size_t kBulkTangle = 50;
 // Untangling rounds without a new fewest count of inverted hexes before an attempt stops.
 constexpr int kUntangleStall = 30;
@@ -227,9 +228,7 @@ class Smoother {
     colour_points(movable);
     movable_ = std::move(movable);
     score_.resize(mesh.hexes.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.hexes.size(), kGrain), [&](const auto& range) {
-      for (std::size_t h = range.begin(); h != range.end(); ++h) score_[h] = hex_score(h);
-    });
+    rescore_all();
   }
 
   const std::vector<double>& scores() const { return score_; }
@@ -238,9 +237,7 @@ class Smoother {
   /// Puts the points back where they were (positions saved from the mesh earlier).
   void restore_points(const std::vector<Vec3>& points) {
     mesh_.points = points;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh_.hexes.size(), kGrain), [&](const auto& range) {
-      for (std::size_t h = range.begin(); h != range.end(); ++h) score_[h] = hex_score(h);
-    });
+    rescore_all();
   }
 
   // One round of untangling over the movable points of the inverted hexes; true if a
@@ -324,6 +321,12 @@ class Smoother {
     for (int i = 0; i < 8; ++i) p[i] = mesh_.points[mesh_.hexes[h][i]];
     const std::optional<double> sj = hex_scaled_jacobian(p);
     return sj ? *sj : kInvalidScore;
+  }
+
+  void rescore_all() {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh_.hexes.size(), kGrain), [&](const auto& range) {
+      for (std::size_t h = range.begin(); h != range.end(); ++h) score_[h] = hex_score(h);
+    });
   }
 
   void rescore(Index v) {
