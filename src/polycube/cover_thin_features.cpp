@@ -148,7 +148,7 @@ std::size_t cover_thin_features(VoxelGrid& grid, const TriMesh& surface) {
   }
 
   // Voids: the empty voxels that the empty space outside (6-connected) does not reach.
-  std::vector<std::uint32_t> filled;
+  std::size_t filled = 0;
   {
     std::vector<std::uint8_t> outside(grid.occupied.size(), 0);
     std::vector<std::uint32_t> stack;
@@ -177,14 +177,14 @@ std::size_t cover_thin_features(VoxelGrid& grid, const TriMesh& surface) {
     for (std::size_t i = 0; i < grid.occupied.size(); ++i)
       if (!grid.occupied[i] && !outside[i]) {
         grid.occupied[i] = 1;
-        filled.push_back(static_cast<std::uint32_t>(i));
+        ++filled;
       }
   }
 
   // Thinning, farthest from the surface first, in passes until one removes nothing: a
   // voxel refused because a neighbour later in the order still held it gets another
   // chance. Filled voids are not candidates: they were outside the surface's reach.
-  std::size_t kept = filled.size();
+  std::size_t kept = filled;
   for (const std::uint8_t g : grown) kept += g;
   for (bool removed = true; removed;) {
     removed = false;
