@@ -61,8 +61,11 @@ class SurfaceProjection {
   Vec3 closest_point(const Vec3& p, Index* triangle = nullptr, Vec3* barycentric = nullptr) const;
   /// The point of the surface on the segment p +- reach * direction nearest to p, its
   /// triangle and barycentric coordinates; false when the segment misses the surface.
+  /// With `facing`, only triangles whose normal (right-hand rule) has a positive dot
+  /// product with *facing count: a point on one side of a thin slab or a narrow gap then does
+  /// not land on the sheet across it, which faces the other way.
   bool nearest_on_line(const Vec3& p, const Vec3& direction, double reach, Vec3& hit, Index& triangle,
-                       Vec3& barycentric) const;
+                       Vec3& barycentric, const Vec3* facing = nullptr) const;
   /// Squared distance from p to the surface.
   double squared_distance(const Vec3& p) const;
   /// The surface's triangles that meet the axis-aligned cube of half-width `radius` around p

@@ -248,7 +248,12 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
         const double closest_distance = (closest - p).norm();
         Vec3 hit, hit_barycentric;
         Index hit_triangle = 0;
-        if (onto_q.nearest_on_line(p, normal, 4 * voxel + 2 * closest_distance, hit, hit_triangle, hit_barycentric) &&
+        // Only Q's triangles that face along the normal count: across a narrow gap or a thin
+        // slab the nearest one may be the far side's, and a point sent there stretches its
+        // hexes across (fertility: a corner of P went to the far side of a gap 4 hexes wide,
+        // its three boundary quads became 21-39 degree spikes, the worst hex 0.055).
+        if (onto_q.nearest_on_line(p, normal, 4 * voxel + 2 * closest_distance, hit, hit_triangle, hit_barycentric,
+                                   &normal) &&
             (hit - p).norm() <= 2 * closest_distance + voxel)
           return on_input(hit_triangle, hit_barycentric);
       }

@@ -80,6 +80,10 @@ struct SurfaceProjection::Impl {
   std::vector<std::array<Vec3, 3>> corners;
   std::vector<Index> original;  // the surface's index of each kept triangle
   Tree tree;
+  Vec3 normal(std::size_t kept) const {
+    const auto& c = corners[kept];
+    return (c[1] - c[0]).cross(c[2] - c[0]);
+  }
 };
 
 SurfaceProjection::SurfaceProjection(const TriMesh& surface) : impl_(std::make_unique<Impl>()) {
@@ -127,7 +131,7 @@ Vec3 SurfaceProjection::closest_point(const Vec3& p, Index* triangle, Vec3* bary
 }
 
 bool SurfaceProjection::nearest_on_line(const Vec3& p, const Vec3& direction, double reach, Vec3& hit, Index& triangle,
-                                        Vec3& barycentric_coordinates) const {
+                                        Vec3& barycentric_coordinates, const Vec3* facing) const {
   const Vec3 d = direction.normalized() * reach;
   const Kernel::Segment_3 segment(to_cgal(p - d), to_cgal(p + d));
   using Intersection = Tree::Intersection_and_primitive_id<Kernel::Segment_3>::Type;
@@ -136,6 +140,8 @@ bool SurfaceProjection::nearest_on_line(const Vec3& p, const Vec3& direction, do
   double best = std::numeric_limits<double>::infinity();
   std::size_t kept = 0;
   for (const Intersection& h : hits) {
+    const auto index = static_cast<std::size_t>(h.second - impl_->triangles.cbegin());
+    if (facing && !(impl_->normal(index).dot(*facing) > 0)) continue;
     // A segment lying in a triangle's plane meets it in a segment: its ends count.
     std::vector<Kernel::Point_3> candidates;
     if (const auto* q = boost::get<Kernel::Point_3>(&h.first))
@@ -146,7 +152,7 @@ bool SurfaceProjection::nearest_on_line(const Vec3& p, const Vec3& direction, do
       if (const double distance = (to_vec(q) - p).squaredNorm(); distance < best) {
         best = distance;
         hit = to_vec(q);
-        kept = static_cast<std::size_t>(h.second - impl_->triangles.cbegin());
+        kept = index;
       }
   }
   if (best == std::numeric_limits<double>::infinity()) return false;

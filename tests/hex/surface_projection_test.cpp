@@ -106,6 +106,37 @@ TEST(SurfaceProjection, TrianglesNearAPointOfAnEdgeAreThoseOfBothFaces) {
   EXPECT_EQ(near(Vec3(0.5, 0.5, 0.5), 0.5).size(), 12u);                // its box reaches every face
 }
 
+// A slab 0.1 thick: a point inside, 0.04 under its top and 0.06 over its bottom, is nearest
+// to the top, which faces up. Asked for a hit facing down, the line query gives the bottom
+// (what keeps a polycube corner from landing across a narrow gap in the hex extraction).
+TEST(SurfaceProjection, FacingLineQuerySkipsTheSheetThatFacesTheOtherWay) {
+  const TriMesh slab = test::subdivided_box(1, 1, 0.1, 4);
+  const SurfaceProjection projection(slab);
+  const Vec3 p(0.5, 0.5, 0.06), down(0, 0, -1), up(0, 0, 1);
+  const auto normal = [&](Index t) {
+    const auto& c = slab.triangles[t];
+    return Vec3((slab.points[c[1]] - slab.points[c[0]]).cross(slab.points[c[2]] - slab.points[c[0]]));
+  };
+  Index triangle = kInvalidIndex;
+  Vec3 hit, weights;
+  ASSERT_TRUE(projection.nearest_on_line(p, up, 1.0, hit, triangle, weights));
+  EXPECT_NEAR((hit - Vec3(0.5, 0.5, 0.1)).norm(), 0.0, 1e-12);
+  EXPECT_GT(normal(triangle).dot(up), 0);
+  ASSERT_TRUE(projection.nearest_on_line(p, up, 1.0, hit, triangle, weights, &up));
+  EXPECT_NEAR((hit - Vec3(0.5, 0.5, 0.1)).norm(), 0.0, 1e-12);
+
+  ASSERT_TRUE(projection.nearest_on_line(p, up, 1.0, hit, triangle, weights, &down));
+  EXPECT_NEAR((hit - Vec3(0.5, 0.5, 0)).norm(), 0.0, 1e-12);
+  EXPECT_GT(normal(triangle).dot(down), 0);
+  Vec3 rebuilt = Vec3::Zero();
+  for (int i = 0; i < 3; ++i) rebuilt += weights[i] * slab.points[slab.triangles[triangle][i]];
+  EXPECT_NEAR((rebuilt - hit).norm(), 0.0, 1e-12);
+  // Too short to reach the bottom: no facing hit, though the top is within reach.
+  EXPECT_FALSE(projection.nearest_on_line(p, up, 0.05, hit, triangle, weights, &down));
+  // The line along x meets only the sides x = 0 and x = 1, which face neither up nor down.
+  EXPECT_FALSE(projection.nearest_on_line(p, Vec3(1, 0, 0), 1.0, hit, triangle, weights, &down));
+}
+
 TEST(SurfaceProjection, RejectsAnEmptySurface) {
   EXPECT_THROW(SurfaceProjection(TriMesh{}), InputError);
   TriMesh broken = test::unit_cube();
