@@ -210,6 +210,7 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
                    {"flipped_before_untangling", result.map.flipped_before_untangling},
                    {"flipped", result.map.flipped},
                    {"grid_points_outside", result.interior_points_outside},
+                   {"boundary_points_moved_to_facing_sheet", result.points_moved_to_facing_sheet},
                    {"surface_folded_before_relaxation", result.surface_map.folded_before},
                    {"surface_folded", result.surface_map.folded_after},
                    {"surface_relaxation_sweeps", result.surface_map.sweeps},

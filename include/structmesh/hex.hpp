@@ -77,6 +77,16 @@ class SurfaceProjection {
   std::unique_ptr<Impl> impl_;
 };
 
+/// The hex extraction's guard against the far sheet of a narrow gap or a thin slab: a
+/// boundary point (of `boundary_quads`) whose place on `surface` faces against its boundary
+/// neighbours' (the dot product of its surface normal with the sum of theirs is negative)
+/// moves to where the line through their centroid along that sum meets a triangle facing
+/// that way, within twice the ring's radius. `points` lie on `surface`, which `onto_surface`
+/// projects onto. Returns how many points moved.
+std::size_t move_boundary_points_to_facing_sheet(std::vector<Vec3>& points,
+                                                 const std::vector<std::array<Index, 4>>& boundary_quads,
+                                                 const TriMesh& surface, const SurfaceProjection& onto_surface);
+
 struct SurfaceMapRelaxation {
   std::size_t folded_before = 0, folded_after = 0;  ///< source triangles whose image faces into the target
   std::size_t moved_points = 0;
@@ -200,6 +210,9 @@ struct HexResult {
   double hex_size = 0;  ///< the grid's target edge length in the parameter domain
   std::size_t padding_hexes = 0;
   std::size_t interior_points_outside = 0;  ///< grid points outside Q, put on it before smoothing
+  /// boundary points the map put on a sheet facing against their neighbours', moved back
+  /// (move_boundary_points_to_facing_sheet)
+  std::size_t points_moved_to_facing_sheet = 0;
   HexSmoothingResult smoothing;
   HexQuality quality;
   double geometric_deviation = 0;  ///< D_g: Hausdorff(hex boundary, input) / input diagonal

@@ -223,6 +223,7 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
   const hex_detail::TetLocator locator(result.parameter, result.tets.tets);
   const double voxel = polycube.voxels.size;
   const SurfaceProjection onto_input(surface);  // the post-smoothing's boundary
+  const SurfaceProjection onto_aligned(aligned);
   timer.stop("hex grid");
 
   // The hex extraction (phi^-1, padding, smoothing, measures) with the grid's boundary points
@@ -280,6 +281,8 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
     });
     result.interior_points_outside = static_cast<std::size_t>(std::count(outside.begin(), outside.end(), 1));
     grid.points = std::move(mapped);
+    result.points_moved_to_facing_sheet =
+        move_boundary_points_to_facing_sheet(grid.points, boundary_quads, aligned, onto_aligned);
     timer.stop("inverse map" + suffix);
 
     // Padding (§5.4's "padding layers"): one pillow layer under the boundary.
