@@ -110,6 +110,10 @@ struct HexSmoothingOptions {
   /// put (sharp edges and corners of the input, §4.5.3); 0: every boundary point slides.
   double feature_angle_degrees = 0;
   double min_improvement = 1e-4;  ///< stop when the mean scaled Jacobian gains less per sweep
+  /// No smoothing sweeps when a hex stays inverted after the untangling: for a caller that
+  /// has another extraction to try and would throw this one away (the sweeps are most of
+  /// the time, and they do not untangle).
+  bool sweeps_only_if_untangled = false;
   bool progress = false;
 };
 
@@ -118,6 +122,7 @@ struct HexSmoothingResult {
   double min_scaled_jacobian_before = 0, min_scaled_jacobian_after = 0;
   double mean_scaled_jacobian_before = 0, mean_scaled_jacobian_after = 0;
   int sweeps = 0;
+  bool sweeps_held_back = false;   ///< by sweeps_only_if_untangled (a bulk tangle gets none anyway)
   std::size_t feature_points = 0;  ///< boundary points held on a sharp feature
   /// Boundary points of hexes the untangling could not fix on the surface, then let off it.
   std::size_t released_boundary_points = 0;

@@ -182,6 +182,28 @@ CompressedRows surface_neighbours(const std::vector<std::array<Index, 4>>& quads
   return rows;
 }
 
+// The 4 corner samples of a hex that do not use point l (the complement of
+// hex_jacobian_sample::kCornersUsing[l]).
+constexpr std::array<std::array<int, 4>, 8> kCornersNotUsing = [] {
+  std::array<std::array<int, 4>, 8> table{};
+  for (std::size_t l = 0; l < 8; ++l) {
+    std::size_t n = 0;
+    for (int c = 0; c < 8; ++c) {
+      bool used = false;
+      for (const int u : hex_jacobian_sample::kCornersUsing[l]) used = used || u == c;
+      if (!used) table[l][n++] = c;
+    }
+  }
+  return table;
+}();
+
+// Per-thread buffers of a point's tries (Smoother::prepare_tries, try_position).
+struct MoveScratch {
+  std::vector<double> scores;       // the new score of each hex of the point
+  std::vector<double> fixed;        // per hex: the worst sample the point does not change
+  std::vector<std::uint8_t> local;  // per hex: where the point is in it
+};
+
 class Smoother {
  public:
   Smoother(HexMesh& mesh, const std::function<Vec3(const Vec3&)>& project, bool move_boundary,
@@ -257,9 +279,9 @@ class Smoother {
         if (active[v]) points.push_back(v);
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), kGrain), [&](const auto& range) {
         std::vector<Sample> samples;
-        std::vector<double> buffer;
+        MoveScratch scratch;
         for (std::size_t k = range.begin(); k != range.end(); ++k)
-          if (untangle_point(points[k], samples) || smooth_point(points[k], buffer))
+          if (untangle_point(points[k], samples) || smooth_point(points[k], scratch))
             moved.store(true, std::memory_order_relaxed);
       });
     }
@@ -276,19 +298,19 @@ class Smoother {
       // Epochs count colours, so that "moved since v's try" is the same on any thread count.
       const std::uint32_t epoch = ++epoch_;
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, colour.size(), kGrain), [&](const auto& range) {
-        std::vector<double> buffer;
+        MoveScratch scratch;
         std::size_t local = 0;
         for (std::size_t k = range.begin(); k != range.end(); ++k) {
           const Index v = colour[k];
           if (!skip_settled) {
-            local += smooth_point(v, buffer);
+            local += smooth_point(v, scratch);
             continue;
           }
           // Only these sweeps keep the stamps: nothing else moves points between them (the
           // untangling, which does, comes before).
           if (settled(v)) continue;
           tried_at_[v] = epoch;
-          if (smooth_point(v, buffer)) moved_at_[v] = epoch, ++local;
+          if (smooth_point(v, scratch)) moved_at_[v] = epoch, ++local;
         }
         moves.fetch_add(local, std::memory_order_relaxed);
       });
@@ -531,22 +553,69 @@ class Smoother {
     return moved;
   }
 
-  // Tries a new position for v: kept (with the scores of v's hexes) if no hex of v gets
-  // below their old worst value or a valid one inverts, and the worst value or the sum rises.
-  bool try_position(Index v, const Vec3& candidate, double old_min, double old_sum, std::vector<double>& buffer) {
+  // Before a point's tries: for each of its hexes, where the point is in it and the worst of
+  // the 4 corner samples that do not use the point (kInvalidScore if one is degenerate). A
+  // try then evaluates the other 5 samples only (6 tries per point on the bunny at 80k hexes:
+  // 34 samples per point instead of 54).
+  void prepare_tries(Index v, MoveScratch& scratch) const {
+    const auto hexes = point_hexes_.row(v);
+    scratch.local.clear();
+    scratch.fixed.clear();
+    for (const Index h : hexes) {
+      std::array<Vec3, 8> p;
+      const int l = hex_points(h, v, p);
+      double fixed = std::numeric_limits<double>::infinity();
+      for (const int c : kCornersNotUsing[static_cast<std::size_t>(l)]) {
+        const std::optional<double> sample = hex_jacobian_sample::corner(p, c);
+        if (!sample) {
+          fixed = kInvalidScore;
+          break;
+        }
+        fixed = std::min(fixed, *sample);
+      }
+      scratch.local.push_back(static_cast<std::uint8_t>(l));
+      scratch.fixed.push_back(fixed);
+    }
+  }
+
+  // Tries a new position for v (after prepare_tries): kept (with the scores of v's hexes) if
+  // no hex of v gets below their old worst value or a valid one inverts, and the worst value
+  // or the sum rises. The same decision as scoring each hex in full: a sample below old_min
+  // puts its hex below old_min whatever the others are (a degenerate one scores
+  // kInvalidScore, below every sample).
+  bool try_position(Index v, const Vec3& candidate, double old_min, double old_sum, MoveScratch& scratch) {
     const auto hexes = point_hexes_.row(v);
     mesh_.points[v] = candidate;
-    buffer.clear();
+    scratch.scores.clear();
     double new_min = std::numeric_limits<double>::infinity(), new_sum = 0;
-    for (const Index h : hexes) {
-      const double s = hex_score(h);
+    for (std::size_t k = 0; k < hexes.size(); ++k) {
+      const Index h = hexes[k];
+      std::array<Vec3, 8> p;
+      for (std::size_t i = 0; i < 8; ++i) p[i] = mesh_.points[mesh_.hexes[h][i]];
+      double s = scratch.fixed[k];
+      if (s != kInvalidScore) {
+        const auto raise = [&](const std::optional<double>& sample) {
+          if (!sample) return s = kInvalidScore, false;
+          s = std::min(s, *sample);
+          return *sample >= old_min;
+        };
+        if (!raise(hex_jacobian_sample::centre(p))) {
+          if (s != kInvalidScore) return false;
+        } else {
+          for (const int c : hex_jacobian_sample::kCornersUsing[scratch.local[k]])
+            if (!raise(hex_jacobian_sample::corner(p, c))) {
+              if (s != kInvalidScore) return false;
+              break;
+            }
+        }
+      }
       if (s < old_min || (score_[h] > 0 && s <= 0)) return false;
       new_min = std::min(new_min, s);
       new_sum += s;
-      buffer.push_back(s);
+      scratch.scores.push_back(s);
     }
     if (!(new_min > old_min || new_sum > old_sum)) return false;
-    for (std::size_t k = 0; k < hexes.size(); ++k) score_[hexes[k]] = buffer[k];
+    for (std::size_t k = 0; k < hexes.size(); ++k) score_[hexes[k]] = scratch.scores[k];
     return true;
   }
 
@@ -623,7 +692,7 @@ class Smoother {
   // score gradients, that try_position() keeps. A boundary point's centroid is that of its
   // neighbours on the boundary (its inner neighbour would only pull it off the surface), and
   // its candidates are projected.
-  bool smooth_point(Index v, std::vector<double>& buffer) {
+  bool smooth_point(Index v, MoveScratch& scratch) {
     const auto hexes = point_hexes_.row(v);
     double old_min = std::numeric_limits<double>::infinity(), old_sum = 0;
     for (const Index h : hexes) {
@@ -637,10 +706,11 @@ class Smoother {
     for (const Index u : ring) centroid += mesh_.points[u];
     centroid /= static_cast<double>(ring.size());
     const Vec3 start = mesh_.points[v];
+    prepare_tries(v, scratch);
     for (const double fraction : kSmoothingSteps) {
       if (fraction > 1 && boundary_[v]) continue;
       const Vec3 candidate = put_back(v, start + fraction * (centroid - start));
-      if (candidate != start && try_position(v, candidate, old_min, old_sum, buffer)) return true;
+      if (candidate != start && try_position(v, candidate, old_min, old_sum, scratch)) return true;
     }
     mesh_.points[v] = start;
     if (old_min <= 0) return false;
@@ -659,7 +729,7 @@ class Smoother {
       const Vec3 direction = gradient / norm;
       for (double step = kAscentFirstStep * length; step > kAscentLastStep * length; step *= 0.5) {
         const Vec3 candidate = put_back(v, start + step * direction);
-        if (candidate != start && try_position(v, candidate, old_min, old_sum, buffer)) return true;
+        if (candidate != start && try_position(v, candidate, old_min, old_sum, scratch)) return true;
       }
       mesh_.points[v] = start;
     }
@@ -781,7 +851,8 @@ HexSmoothingResult smooth_hex_mesh(HexMesh& mesh, const std::function<Vec3(const
   }
 
   // Nor smoothing for a mesh still tangled in bulk: the caller retries on another polycube.
-  const int sweeps = current.inverted > kBulkTangle ? 0 : options.iterations;
+  result.sweeps_held_back = current.inverted > 0 && current.inverted <= kBulkTangle && options.sweeps_only_if_untangled;
+  const int sweeps = current.inverted > kBulkTangle || result.sweeps_held_back ? 0 : options.iterations;
   std::optional<Progress> progress;
   if (options.progress && sweeps > 0) progress.emplace("hex smoothing sweeps", static_cast<std::uint64_t>(sweeps));
   // The worst and mean scaled Jacobian after each sweep, to judge the gains over a window.

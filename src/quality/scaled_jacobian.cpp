@@ -28,31 +28,15 @@ double triangle_scaled_jacobian(const Vec3& a, const Vec3& b, const Vec3& c) {
   return ab.cross(ac).norm() * (2.0 / std::sqrt(3.0)) / largest_product;
 }
 
-// The three edges leaving each hex corner, ordered so that their determinant is
-// positive for a VTK-ordered hex (Verdict's J(0,0,0) ... J(0,1,1)).
-constexpr std::array<std::array<int, 4>, 8> kHexCorners{
-    {{0, 1, 3, 4}, {1, 2, 0, 5}, {2, 3, 1, 6}, {3, 0, 2, 7}, {4, 7, 5, 0}, {5, 4, 6, 1}, {6, 5, 7, 2}, {7, 6, 4, 3}}};
-
-// det(a, b, c) / (|a| |b| |c|), or nullopt where Verdict returns VERDICT_DBL_MAX.
-std::optional<double> normalized_determinant(const Vec3& a, const Vec3& b, const Vec3& c) {
-  const double la = a.squaredNorm(), lb = b.squaredNorm(), lc = c.squaredNorm();
-  if (la <= kVerdictDblMin || lb <= kVerdictDblMin || lc <= kVerdictDblMin) return std::nullopt;
-  return a.dot(b.cross(c)) / std::sqrt(la * lb * lc);
-}
-
-// The 9 samples of Verdict's hex_scaled_jacobian: the centre sample (from the
-// principal axes, each the sum of the 4 parallel edges) and the 8 corners.
+// The 9 samples of Verdict's hex_scaled_jacobian: the centre sample and the 8 corners.
 // nullopt when any of them is degenerate: Verdict then returns VERDICT_DBL_MAX
 // whatever the other samples are, so the order of evaluation does not matter.
 std::optional<std::pair<double, double>> hex_samples(const std::array<Vec3, 8>& p) {
-  const Vec3 axis_x = (p[1] + p[2] + p[5] + p[6]) - (p[0] + p[3] + p[4] + p[7]);
-  const Vec3 axis_y = (p[2] + p[3] + p[6] + p[7]) - (p[0] + p[1] + p[4] + p[5]);
-  const Vec3 axis_z = (p[4] + p[5] + p[6] + p[7]) - (p[0] + p[1] + p[2] + p[3]);
-  const std::optional<double> centre = normalized_determinant(axis_x, axis_y, axis_z);
+  const std::optional<double> centre = hex_jacobian_sample::centre(p);
   if (!centre) return std::nullopt;
   double corner_min = std::numeric_limits<double>::infinity();
-  for (const auto& [c, i, j, k] : kHexCorners) {
-    const std::optional<double> sample = normalized_determinant(p[i] - p[c], p[j] - p[c], p[k] - p[c]);
+  for (int c = 0; c < 8; ++c) {
+    const std::optional<double> sample = hex_jacobian_sample::corner(p, c);
     if (!sample) return std::nullopt;
     corner_min = std::min(corner_min, *sample);
   }

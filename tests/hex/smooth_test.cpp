@@ -218,6 +218,31 @@ TEST(SmoothHexMesh, SameResultOnOneAndTwoThreads) {
   EXPECT_EQ(result_one.sweeps, result_two.sweeps);
 }
 
+// A fold the fixed boundary pins (a point of the bottom face pushed above the top one): with
+// sweeps_only_if_untangled the smoothing stops after the untangling, without it sweeps run.
+TEST(SmoothHexMesh, NoSweepsOnAMeshLeftTangledWhenAsked) {
+  HexMesh start = perturbed_grid(4, 0.1, 3);
+  start.points[static_cast<std::size_t>(2 * 5 + 2)] = Vec3(2, 2, 4.5);  // (2, 2, 0) -> above the top face
+  HexSmoothingOptions options;
+  options.move_boundary = false;
+  HexMesh swept = start, unswept = start;
+  const HexSmoothingResult with_sweeps = smooth_hex_mesh(swept, {}, options);
+  options.sweeps_only_if_untangled = true;
+  const HexSmoothingResult without_sweeps = smooth_hex_mesh(unswept, {}, options);
+  EXPECT_GT(with_sweeps.inverted_after, 0u);
+  EXPECT_GE(with_sweeps.sweeps, 1);
+  EXPECT_EQ(without_sweeps.inverted_after, with_sweeps.inverted_after);
+  EXPECT_EQ(without_sweeps.sweeps, 0);
+  EXPECT_TRUE(without_sweeps.sweeps_held_back);
+  EXPECT_FALSE(with_sweeps.sweeps_held_back);
+  // An untangled mesh is swept either way.
+  HexMesh loose = perturbed_grid(6, 0.45, 7);
+  const HexSmoothingResult untangled = smooth_hex_mesh(loose, {}, options);
+  EXPECT_EQ(untangled.inverted_after, 0u);
+  EXPECT_GE(untangled.sweeps, 1);
+  EXPECT_FALSE(untangled.sweeps_held_back);
+}
+
 TEST(SmoothHexMesh, RejectsBadInput) {
   HexMesh mesh = test::hex_grid(2, 1, 1);
   HexMesh past_the_end = mesh;

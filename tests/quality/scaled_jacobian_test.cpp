@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -162,6 +163,39 @@ TEST(HexScaledJacobian, CentreSampleNeverRaisesTheMinimum) {
     EXPECT_GE(nine, -1.0);
     EXPECT_LE(eight, 1.0);
   }
+}
+
+// The sample-by-sample interface the hex smoothing uses: the minimum of the 9 samples is
+// hex_scaled_jacobian, and moving point l changes the centre and the corners of
+// kCornersUsing[l] only.
+TEST(HexJacobianSample, SamplesMakeTheScaledJacobianAndOnlyTheListedOnesMove) {
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+  for (int trial = 0; trial < 200; ++trial) {
+    std::array<Vec3, 8> hex = unit_cube();
+    for (Vec3& p : hex) p += Vec3(jitter(random), jitter(random), jitter(random));
+    double smallest = hex_jacobian_sample::centre(hex).value();
+    for (int c = 0; c < 8; ++c) smallest = std::min(smallest, hex_jacobian_sample::corner(hex, c).value());
+    EXPECT_EQ(smallest, hex_scaled_jacobian(hex).value());
+    for (int l = 0; l < 8; ++l) {
+      std::array<Vec3, 8> moved = hex;
+      moved[static_cast<std::size_t>(l)] += Vec3(0.2, -0.1, 0.15);
+      const auto& using_l = hex_jacobian_sample::kCornersUsing[static_cast<std::size_t>(l)];
+      for (int c = 0; c < 8; ++c) {
+        const bool listed = std::find(using_l.begin(), using_l.end(), c) != using_l.end();
+        const bool changed = hex_jacobian_sample::corner(moved, c) != hex_jacobian_sample::corner(hex, c);
+        EXPECT_EQ(changed, listed) << "point " << l << ", corner sample " << c;
+      }
+    }
+  }
+}
+
+TEST(HexJacobianSample, DegenerateEdgeOrAxisHasNoSample) {
+  std::array<Vec3, 8> hex = unit_cube();
+  hex[1] = hex[0];
+  EXPECT_FALSE(hex_jacobian_sample::corner(hex, 0).has_value());
+  EXPECT_TRUE(hex_jacobian_sample::corner(hex, 6).has_value());
+  EXPECT_FALSE(hex_scaled_jacobian(hex).has_value());
 }
 
 }  // namespace
