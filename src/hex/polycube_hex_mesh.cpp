@@ -56,6 +56,15 @@ constexpr double kRetryBelowQuality = 0.3;
 /// Hexes that are inverted or invalid: what a retry must lower first.
 std::size_t bad_hexes(const HexQuality& quality) { return quality.inverted + quality.invalid; }
 
+// Which of two meshes of the same input to keep: fewer bad hexes first, then not having lost
+// a part (D_g over kLostPartDeviation), then the better worst hex.
+bool better_mesh(const HexQuality& quality, double deviation, const HexQuality& other_quality, double other_deviation) {
+  const auto rank = [](const HexQuality& q, double d) {
+    return std::make_tuple(bad_hexes(q), d > kLostPartDeviation, -q.scaled_jacobian_stats.min);
+  };
+  return rank(quality, deviation) < rank(other_quality, other_deviation);
+}
+
 class StageTimer {
  public:
   explicit StageTimer(std::vector<std::pair<std::string, double>>& stages) : stages_(stages) {}
@@ -348,11 +357,7 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
   const double first_deviation = result.geometric_deviation;
   extract(on_p, " (boundary on P)", false);
   result.extraction_retried = true;
-  // Fewer bad hexes first, then not having lost a part, then the worst hex.
-  const auto rank = [](const HexQuality& quality, double deviation) {
-    return std::make_tuple(bad_hexes(quality), deviation > kLostPartDeviation, -quality.scaled_jacobian_stats.min);
-  };
-  const bool second_better = rank(result.quality, result.geometric_deviation) < rank(first_quality, first_deviation);
+  const bool second_better = better_mesh(result.quality, result.geometric_deviation, first_quality, first_deviation);
   if (!second_better && first_unswept) {
     extract(map_boundary, " (boundary from the map, smoothed)", false);
   } else if (!second_better) {
@@ -383,9 +388,8 @@ HexResult polycube_hex_mesh(const TriMesh& surface, const HexOptions& options) {
   HexOptions unmerged = options;
   unmerged.polycube.merge_planes_within = 0;
   HexResult second = polycube_hex_mesh_once(surface, unmerged);
-  const bool better = bad_hexes(second.quality) < bad_hexes(result.quality) ||
-                      (bad_hexes(second.quality) == bad_hexes(result.quality) &&
-                       second.quality.scaled_jacobian_stats.min > result.quality.scaled_jacobian_stats.min);
+  const bool better =
+      better_mesh(second.quality, second.geometric_deviation, result.quality, result.geometric_deviation);
   std::vector<std::pair<std::string, double>> first_stages = std::move(result.stage_seconds);
   if (better)
     result = std::move(second);
