@@ -222,6 +222,7 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
                    {"seconds_untangle", result.map.seconds_untangle}}},
                  {"smoothing",
                   {{"sweeps", result.smoothing.sweeps},
+                   {"polish_rounds", result.smoothing.polish_rounds},
                    {"feature_points", result.smoothing.feature_points},
                    {"released_boundary_points", result.smoothing.released_boundary_points},
                    {"inverted_before", result.smoothing.inverted_before},

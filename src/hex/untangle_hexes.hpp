@@ -26,4 +26,14 @@ struct HexUntangleResult {
 HexUntangleResult untangle_hexes(std::vector<Vec3>& points, std::span<const std::array<Index, 8>> hexes,
                                  std::span<const Index> free, double size, int max_steps = 30);
 
+struct HexPolishResult {
+  double worst_before = 0, worst_after = 0;  ///< worst Verdict sample of the hexes
+};
+
+/// Moves the points `free` jointly to raise the worst Verdict sample (8 corners and the
+/// centre) of `hexes`, the hexes that use them: L-BFGS on the samples' soft minimum
+/// (polish_hexes.cpp). `points` change only if the worst sample rose.
+HexPolishResult polish_hexes(std::vector<Vec3>& points, std::span<const std::array<Index, 8>> hexes,
+                             std::span<const Index> free, int max_iterations = 200);
+
 }  // namespace structmesh::hex_detail

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <random>
 #include <vector>
 
 namespace structmesh {
@@ -58,6 +60,60 @@ TEST(UntangleHexes, NothingFreeOrZeroSizeLeavesThePointsAlone) {
   const std::vector<Index> centre{13};
   EXPECT_EQ(hex_detail::untangle_hexes(mesh.points, mesh.hexes, centre, 0.0).outer_iterations, 0);
   EXPECT_EQ(mesh.points, before);
+}
+
+}  // namespace
+}  // namespace structmesh
+
+namespace structmesh {
+namespace {
+
+double worst_scaled_jacobian(const HexMesh& mesh) {
+  double worst = 1;
+  for (const auto& h : mesh.hexes) {
+    std::array<Vec3, 8> p;
+    for (int i = 0; i < 8; ++i) p[i] = mesh.points[h[i]];
+    worst = std::min(worst, hex_scaled_jacobian(p).value_or(-2.0));
+  }
+  return worst;
+}
+
+// polish_hexes: the 27 interior points of a 4x4x4 grid, displaced at random, move together
+// to raise the worst hex; the boundary stays, and the reported values are the mesh's.
+TEST(PolishHexes, RaisesTheWorstHexOfADistortedGrid) {
+  HexMesh mesh = test::hex_grid(4, 4, 4);
+  std::vector<Index> interior;
+  for (std::size_t v = 0; v < mesh.points.size(); ++v)
+    if (mesh.points[v].minCoeff() > 0.5 && mesh.points[v].maxCoeff() < 3.5) interior.push_back(static_cast<Index>(v));
+  ASSERT_EQ(interior.size(), 27u);
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> offset(-0.3, 0.3);
+  for (const Index v : interior) mesh.points[v] += Vec3(offset(random), offset(random), offset(random));
+  const double before = worst_scaled_jacobian(mesh);
+  ASSERT_GT(before, 0.0);
+  ASSERT_LT(before, 0.8);
+  const std::vector<Vec3> start = mesh.points;
+  const hex_detail::HexPolishResult result = hex_detail::polish_hexes(mesh.points, mesh.hexes, interior);
+  EXPECT_DOUBLE_EQ(result.worst_before, before);
+  EXPECT_DOUBLE_EQ(result.worst_after, worst_scaled_jacobian(mesh));
+  EXPECT_GT(result.worst_after, before + 0.1) << before << " -> " << result.worst_after;
+  for (std::size_t v = 0; v < mesh.points.size(); ++v)
+    if (std::find(interior.begin(), interior.end(), static_cast<Index>(v)) == interior.end()) {
+      EXPECT_EQ(mesh.points[v], start[v]) << v;
+    }
+}
+
+// A perfect grid cannot get better: nothing moves.
+TEST(PolishHexes, LeavesAPerfectGridAlone) {
+  HexMesh mesh = test::hex_grid(3, 3, 3);
+  std::vector<Index> interior;
+  for (std::size_t v = 0; v < mesh.points.size(); ++v)
+    if (mesh.points[v].minCoeff() > 0.5 && mesh.points[v].maxCoeff() < 2.5) interior.push_back(static_cast<Index>(v));
+  const std::vector<Vec3> start = mesh.points;
+  const hex_detail::HexPolishResult result = hex_detail::polish_hexes(mesh.points, mesh.hexes, interior);
+  EXPECT_DOUBLE_EQ(result.worst_before, 1.0);
+  EXPECT_DOUBLE_EQ(result.worst_after, 1.0);
+  EXPECT_EQ(mesh.points, start);
 }
 
 }  // namespace
