@@ -421,22 +421,13 @@ class Smoother {
         if (!in_region[v]) in_region[v] = 1, region.push_back(v);
     }
     if (region.empty() || !(edge_sum > 0)) return false;
-    for (int ring = 0; ring < kRegionRings; ++ring) {
-      const std::size_t end = region.size();
-      for (std::size_t k = 0; k < end; ++k)
-        for (const Index h : point_hexes_.row(region[k]))
-          for (const Index v : mesh_.hexes[h])
-            if (!in_region[v]) in_region[v] = 1, region.push_back(v);
-    }
+    grow_region(region, in_region, kRegionRings);
     std::vector<Index> free;
     for (const Index v : region)
       if (movable_[v] && (!boundary_[v] || released_[v] || free_boundary)) free.push_back(v);
-    std::vector<std::uint8_t> touched(mesh_.hexes.size(), 0);
     std::vector<std::array<Index, 8>> hexes;
     std::vector<Index> hex_ids;
-    for (const Index v : free)
-      for (const Index h : point_hexes_.row(v))
-        if (!touched[h]) touched[h] = 1, hex_ids.push_back(h), hexes.push_back(mesh_.hexes[h]);
+    hexes_using(free, hex_ids, hexes);
     const auto summary = [&] {
       std::pair<std::size_t, double> inverted_and_min{0, std::numeric_limits<double>::infinity()};
       for (const Index h : hex_ids) {
@@ -468,6 +459,27 @@ class Smoother {
     return false;
   }
 
+  // Adds to `region` (its points flagged in `in_region`) the points of their hexes, `rings`
+  // times over.
+  void grow_region(std::vector<Index>& region, std::vector<std::uint8_t>& in_region, int rings) const {
+    for (int ring = 0; ring < rings; ++ring) {
+      const std::size_t end = region.size();
+      for (std::size_t k = 0; k < end; ++k)
+        for (const Index h : point_hexes_.row(region[k]))
+          for (const Index v : mesh_.hexes[h])
+            if (!in_region[v]) in_region[v] = 1, region.push_back(v);
+    }
+  }
+
+  // The hexes that use a point of `free`, each once: their ids and their points.
+  void hexes_using(const std::vector<Index>& free, std::vector<Index>& hex_ids,
+                   std::vector<std::array<Index, 8>>& hexes) const {
+    std::vector<std::uint8_t> touched(mesh_.hexes.size(), 0);
+    for (const Index v : free)
+      for (const Index h : point_hexes_.row(v))
+        if (!touched[h]) touched[h] = 1, hex_ids.push_back(h), hexes.push_back(mesh_.hexes[h]);
+  }
+
   // Joint ascent of the worst hexes (polish_hexes): the hexes within `margin` of the worst
   // score, and the interior points within `rings` rings of them, move together. Kept if the
   // worst score of the hexes involved rose. Returns whether it was kept.
@@ -480,22 +492,13 @@ class Smoother {
       if (score_[h] <= now.min + margin)
         for (const Index v : mesh_.hexes[h])
           if (!in_region[v]) in_region[v] = 1, region.push_back(v);
-    for (int ring = 0; ring < rings; ++ring) {
-      const std::size_t end = region.size();
-      for (std::size_t k = 0; k < end; ++k)
-        for (const Index h : point_hexes_.row(region[k]))
-          for (const Index v : mesh_.hexes[h])
-            if (!in_region[v]) in_region[v] = 1, region.push_back(v);
-    }
+    grow_region(region, in_region, rings);
     std::vector<Index> free;
     for (const Index v : region)
       if (movable_[v] && !boundary_[v]) free.push_back(v);
-    std::vector<std::uint8_t> touched(mesh_.hexes.size(), 0);
     std::vector<std::array<Index, 8>> hexes;
     std::vector<Index> hex_ids;
-    for (const Index v : free)
-      for (const Index h : point_hexes_.row(v))
-        if (!touched[h]) touched[h] = 1, hex_ids.push_back(h), hexes.push_back(mesh_.hexes[h]);
+    hexes_using(free, hex_ids, hexes);
     const hex_detail::HexPolishResult polished = hex_detail::polish_hexes(mesh_.points, hexes, free);
     if (!(polished.worst_after > polished.worst_before)) return false;
     for (const Index h : hex_ids) score_[h] = hex_score(h);
