@@ -105,6 +105,12 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
                   "Post-smoothing sweeps (0: no untangling or smoothing, the raw map)")
       ->capture_default_str()
       ->check(CLI::Range(0, 10000));
+  command
+      .add_option("--polish-below", settings->options.smoothing.polish_below,
+                  "Joint ascents of the worst hexes while the worst is below this (0: none; each round "
+                  "costs up to 10 sweeps)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
   command.add_option("--view", settings->view, "Viewing direction of the .png: azimuth and elevation in degrees")
       ->expected(2)
       ->delimiter(',');

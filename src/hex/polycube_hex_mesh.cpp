@@ -129,13 +129,13 @@ HexSmoothingOptions extraction_smoothing(const HexOptions& options) {
 // (fertility: 0.303 there, 0.293 this way), so this is only for the first extraction, which
 // may be thrown away.
 constexpr int kSweepsBeforePolish = 100;
-void polish_kept_mesh(const TriMesh& surface, const HexOptions& options, HexResult& result) {
+void polish_kept_mesh(const TriMesh& surface, const SurfaceProjection& onto_input, const HexOptions& options,
+                      HexResult& result) {
   HexSmoothingOptions smoothing = extraction_smoothing(options);
   if (smoothing.iterations <= 0 || !(smoothing.polish_below > 0) || bad_hexes(result.quality) > 0 ||
       !(result.quality.scaled_jacobian_stats.min < smoothing.polish_below))
     return;
   const auto start = Clock::now();
-  const SurfaceProjection onto_input(surface);
   smoothing.iterations = kSweepsBeforePolish;
   const HexSmoothingResult polished = smooth_hex_mesh(
       result.mesh, [&](const Vec3& p) { return onto_input.closest_point(p); }, smoothing);
@@ -386,7 +386,7 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
   if (!retry_possible) return result;
   if (bad_hexes(result.quality) == 0 && result.geometric_deviation <= kLostPartDeviation &&
       result.quality.scaled_jacobian_stats.min >= kRetryBelowQuality) {
-    polish_kept_mesh(surface, options, result);
+    polish_kept_mesh(surface, onto_input, options, result);
     return result;
   }
   const bool first_unswept = result.smoothing.sweeps_held_back;
@@ -404,7 +404,7 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
     result.smoothing = first_smoothing;
     result.quality = first_quality;
     result.geometric_deviation = first_deviation;
-    polish_kept_mesh(surface, options, result);
+    polish_kept_mesh(surface, onto_input, options, result);
   }
   result.boundary_from_p_kept = second_better;
   return result;
