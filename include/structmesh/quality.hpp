@@ -60,6 +60,11 @@ inline constexpr double kDegenerateSquaredLength = 1.0e-30;
 inline constexpr std::array<std::array<int, 4>, 8> kCorners{
     {{0, 1, 3, 4}, {1, 2, 0, 5}, {2, 3, 1, 6}, {3, 0, 2, 7}, {4, 7, 5, 0}, {5, 4, 6, 1}, {6, 5, 7, 2}, {7, 6, 4, 3}}};
 
+/// The sign of each node in the principal axes of the centre sample: X = (1+2+5+6) -
+/// (0+3+4+7), Y = (2+3+6+7) - (0+1+4+5), Z = (4+5+6+7) - (0+1+2+3).
+inline constexpr std::array<std::array<double, 3>, 8> kAxisSigns{
+    {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1}, {-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}}};
+
 /// The 4 corner samples that use point l (its own and its 3 neighbours'); the other 4 do not
 /// change when l moves.
 inline constexpr std::array<std::array<int, 4>, 8> kCornersUsing{

@@ -23,9 +23,7 @@
 namespace structmesh::hex_detail {
 namespace {
 
-// The sign of each node in Verdict's principal axes (the centre sample).
-constexpr std::array<std::array<double, 3>, 8> kAxisSigns{
-    {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1}, {-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}}};
+using hex_jacobian_sample::kAxisSigns;
 // Sharpness of the soft minimum: samples more than about 3/k above the worst hardly count.
 // Softer minima trade the worst sample for the ones near it (fertility's worst cluster:
 // k = 60 took the worst from 0.280 to 0.278, 200 to 0.287, 3000 to 0.291 per round).

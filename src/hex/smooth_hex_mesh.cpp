@@ -11,6 +11,7 @@
 #include "structmesh/error.hpp"
 #include "structmesh/hex.hpp"
 #include "structmesh/progress.hpp"
+#include "structmesh/quality.hpp"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
@@ -34,14 +35,9 @@ namespace {
 // Jacobian, which lies in [-1, 1], and counted as inverted.
 constexpr double kInvalidScore = -2.0;
 
-// Verdict's corner samples (as in src/quality/scaled_jacobian.cpp): corner c and its three
-// edges in the order that gives a positive determinant for a VTK-ordered hex.
-constexpr std::array<std::array<int, 4>, 8> kCorners{
-    {{0, 1, 3, 4}, {1, 2, 0, 5}, {2, 3, 1, 6}, {3, 0, 2, 7}, {4, 7, 5, 0}, {5, 4, 6, 1}, {6, 5, 7, 2}, {7, 6, 4, 3}}};
-// The sign of each node in Verdict's principal axes (the centre sample): X = (1+2+5+6) -
-// (0+3+4+7), Y = (2+3+6+7) - (0+1+4+5), Z = (4+5+6+7) - (0+1+2+3).
-constexpr std::array<std::array<double, 3>, 8> kAxisSigns{
-    {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1}, {-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}}};
+// Verdict's corner samples and the node signs of its centre sample (quality.hpp).
+using hex_jacobian_sample::kAxisSigns;
+using hex_jacobian_sample::kCorners;
 
 // Untangling: the corner determinants around a point, divided by the cube of the mean
 // length of its edges (1 for a unit cube's corners, whatever the mesh's size), are pushed
@@ -926,8 +922,8 @@ HexSmoothingResult smooth_hex_mesh(HexMesh& mesh, const std::function<Vec3(const
     }
   }
   if (progress) progress->finish();
-  // Then joint ascents of the worst hexes (polish_worst), each followed by sweeps around what
-  // it moved, while they raise the worst hex.
+  // Then joint ascents of the worst hexes (polish_worst), each followed by sweeps of the whole
+  // mesh, while they raise the worst hex.
   for (int round = 0;
        round < kPolishRounds && sweeps > 0 && current.inverted == 0 && current.min < options.polish_below; ++round) {
     if (!smoother.polish_worst(kPolishMargin, kPolishRings)) break;

@@ -14,6 +14,7 @@
 // count.
 #include "hex/untangle_hexes.hpp"
 #include "mesh/foldover_free.hpp"
+#include "structmesh/quality.hpp"
 
 #include <Eigen/Geometry>
 
@@ -27,13 +28,10 @@
 namespace structmesh::hex_detail {
 namespace {
 
-// Verdict's corner samples: corner o and its three edge ends, as in smooth_hex_mesh.cpp.
-constexpr std::array<std::array<int, 4>, 8> kCorners{
-    {{0, 1, 3, 4}, {1, 2, 0, 5}, {2, 3, 1, 6}, {3, 0, 2, 7}, {4, 7, 5, 0}, {5, 4, 6, 1}, {6, 5, 7, 2}, {7, 6, 4, 3}}};
-// The sign of each node in Verdict's principal axes (the centre sample), as in
-// smooth_hex_mesh.cpp; a quarter of each axis is an edge of a cube's centre "corner".
-constexpr std::array<std::array<double, 3>, 8> kAxisSigns{
-    {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1}, {-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}}};
+// Verdict's corner samples and the node signs of its centre sample (quality.hpp); a quarter
+// of each axis is an edge of a cube's centre "corner".
+using hex_jacobian_sample::kAxisSigns;
+using hex_jacobian_sample::kCorners;
 // Hexes per parallel block; the blocks are fixed, so sums do not depend on the threads.
 constexpr std::size_t kBlock = 512;
 
