@@ -85,7 +85,8 @@ int main(int argc, char** argv) {
       const auto& planes = r.polycube.plane_merge.planes_after;
       std::snprintf(buffer, sizeof buffer, "%zu; %zu/%zu/%zu%s", r.polycube.optimization.after.corners, planes[0],
                     planes[1], planes[2],
-                    r.unmerged_kept     ? " (unmerged: retry)"
+                    r.merged_map_folded ? " (unmerged: merged map folded)"
+                    : r.unmerged_kept   ? " (unmerged: retry)"
                     : r.merging_retried ? " (merged, retry worse)"
                                         : "");
       const std::string corners = buffer;

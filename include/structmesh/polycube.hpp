@@ -323,6 +323,9 @@ struct PolycubeResult {
   PolycubeOptimizationResult optimization;  ///< its `after` energy includes the plane merging
   PolycubeEnergy before_merge;              ///< the optimisation's own result, before plane merging
   PlaneMergeResult plane_merge;
+  /// The optimised voxels before plane merging (empty when merging is off), so that
+  /// without_plane_merging() need not redo chapter 4.
+  VoxelGrid voxels_before_merge;
   QuadMesh surface;                  ///< P = the boundary of the voxels (outward quads)
   std::vector<std::uint8_t> corner;  ///< per point of `surface`: a polycube corner
   std::vector<std::pair<std::string, double>> stage_seconds;
@@ -334,5 +337,10 @@ struct PolycubeResult {
 /// (4.1). InputError for a surface that does not bound a solid; Error if no resolution
 /// within max_resolution keeps the topology.
 PolycubeResult build_polycube(const TriMesh& surface, const PolycubeOptions& options = {});
+
+/// The polycube build_polycube() gives with merge_planes_within = 0, from one built with
+/// merging (its voxels_before_merge): the same Q and optimised voxels, the facet planes
+/// left where the optimisation put them, in a fraction of the time of building it again.
+PolycubeResult without_plane_merging(const PolycubeResult& merged);
 
 }  // namespace structmesh

@@ -265,10 +265,10 @@ VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source
 
   // --- 4. untangling of inverted tets (interior points; boundary points only as a last resort).
   start = Clock::now();
-  // The tets' parameter volumes, measured once after each sweep and read by everything else.
+  // The tets' parameter volumes: all measured here (in parallel; the count is a sum of
+  // integers, the same on any thread count), then after each sweep those of the tets it
+  // changed; read by everything but the energy, which measures the tets it moves.
   std::vector<double> volume(tet_count);
-  // In parallel (each sweep measures every tet: a third of the untangling's time on one
-  // thread); the count is a sum of integers, the same on any thread count.
   auto measure = [&] {
     return tbb::parallel_reduce(
         tbb::blocked_range<std::size_t>(0, tet_count, 4096), std::size_t{0},
@@ -322,7 +322,51 @@ VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source
       }
       return energy;
     };
-    std::vector<std::uint8_t> active(point_count, 0);
+    // A point is active while one of its tets is below its least volume (`low`). After the
+    // first full measure only the tets of the points a sweep moved are measured again, and
+    // the active points are kept as a sorted list: on the bunny at 80k hexes (300 sweeps,
+    // 4,000 active points each of 280k) measuring every tet and point per sweep was 5 of
+    // the 9 s of the untangling.
+    std::vector<std::uint8_t> low(tet_count, 0);
+    std::vector<std::uint32_t> low_tets_of(point_count, 0);  // per point: how many of its tets are low
+    std::vector<Index> active;                               // points with a low tet, ascending
+    for (std::size_t t = 0; t < tet_count; ++t)
+      if (!(volume[t] > beta[t])) {
+        low[t] = 1;
+        for (const Index v : tets.tets[t]) ++low_tets_of[v];
+      }
+    for (std::size_t v = 0; v < point_count; ++v)
+      if (low_tets_of[v] > 0) active.push_back(static_cast<Index>(v));
+    std::vector<Index> moved, touched_tets, next_active;
+    std::vector<std::uint32_t> touched_at(tet_count, 0);
+    std::uint32_t sweep_stamp = 0;
+    // Measures the tets of the moved points again; returns the change in the flipped count.
+    auto remeasure_moved = [&] {
+      ++sweep_stamp;
+      touched_tets.clear();
+      for (const Index v : moved)
+        for (const Index t : tets_of_point.row(v))
+          if (touched_at[t] != sweep_stamp) touched_at[t] = sweep_stamp, touched_tets.push_back(t);
+      std::ptrdiff_t change = 0;
+      next_active = active;
+      for (const Index t : touched_tets) {
+        const bool was_flipped = !(volume[t] > 0);
+        volume[t] = tet_volume(result.parameter, tets.tets[t]);
+        change += static_cast<std::ptrdiff_t>(!(volume[t] > 0)) - static_cast<std::ptrdiff_t>(was_flipped);
+        const std::uint8_t now_low = !(volume[t] > beta[t]) ? 1 : 0;
+        if (now_low == low[t]) continue;
+        low[t] = now_low;
+        for (const Index v : tets.tets[t]) {
+          if (now_low && low_tets_of[v]++ == 0) next_active.push_back(v);
+          if (!now_low) --low_tets_of[v];
+        }
+      }
+      std::sort(next_active.begin(), next_active.end());
+      next_active.erase(std::unique(next_active.begin(), next_active.end()), next_active.end());
+      std::erase_if(next_active, [&](Index v) { return low_tets_of[v] == 0; });
+      active.swap(next_active);
+      return change;
+    };
     std::optional<Progress> progress;
     if (options.progress) progress.emplace("untangling the map", static_cast<std::uint64_t>(options.untangle_sweeps));
     int stuck_sweeps = 0;
@@ -330,21 +374,10 @@ VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source
     std::size_t fewest_flipped = result.flipped;
     int since_fewest = 0;
     for (int sweep = 0; sweep < options.untangle_sweeps && result.flipped > 0; ++sweep) {
-      // A point is active when one of its tets is below its least volume (per point, in
-      // parallel: no two writes to one flag).
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, point_count, 4096), [&](const auto& range) {
-        for (std::size_t v = range.begin(); v != range.end(); ++v) {
-          active[v] = 0;
-          for (const Index t : tets_of_point.row(static_cast<Index>(v)))
-            if (!(volume[t] > beta[t])) {
-              active[v] = 1;
-              break;
-            }
-        }
-      });
-      for (std::size_t v = 0; v < point_count; ++v) {
-        if (!active[v] || (v < boundary_count && !released[v])) continue;
-        const auto point = static_cast<Index>(v);
+      moved.clear();
+      for (const Index point : active) {
+        const std::size_t v = point;
+        if (v < boundary_count && !released[v]) continue;
         Eigen::Matrix3d normal;
         Vec3 rhs;
         const double energy = untangle_energy(point, result.parameter[v], &normal, &rhs);
@@ -359,12 +392,13 @@ VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source
           const Vec3 candidate = result.parameter[v] + step;
           if (untangle_energy(point, candidate, nullptr, nullptr) < energy) {
             result.parameter[v] = candidate;
+            moved.push_back(point);
             break;
           }
         }
       }
       const std::size_t flipped_before = result.flipped;
-      result.flipped = measure();
+      result.flipped = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(result.flipped) + remeasure_moved());
       if (progress) progress->advance();
       // Stuck: no interior point alone can unfold what is left (the boundary faces around
       // it pin it where the target folds tightly). As a last resort the boundary points of

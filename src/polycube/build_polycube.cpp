@@ -155,6 +155,7 @@ PolycubeResult build_polycube(const TriMesh& input, const PolycubeOptions& optio
   const VoxelGrid voxelized = result.voxels;
   result.optimization = optimize_polycube(result.voxels, distance, optimization);
   result.before_merge = result.optimization.after;
+  if (options.merge_planes_within > 0) result.voxels_before_merge = result.voxels;
   // With merge_planes_within = 0 this only counts the planes.
   result.plane_merge = merge_facet_planes(result.voxels, options.merge_planes_within, options.progress);
   if (result.plane_merge.removed > 0)
@@ -165,6 +166,21 @@ PolycubeResult build_polycube(const TriMesh& input, const PolycubeOptions& optio
                 " (a bug: homotopic operations keep it)");
   result.surface = voxel_boundary(result.voxels, &result.corner);
   stage("optimisation");
+  return result;
+}
+
+PolycubeResult without_plane_merging(const PolycubeResult& merged) {
+  const auto start = Clock::now();
+  PolycubeResult result = merged;
+  if (merged.voxels_before_merge.occupied.empty()) return result;  // merging was off
+  result.voxels = merged.voxels_before_merge;
+  result.voxels_before_merge = {};
+  // As build_polycube() with merging off: the planes counted, the energy the optimisation's.
+  result.plane_merge = merge_facet_planes(result.voxels, 0);
+  result.optimization.after = merged.before_merge;
+  result.final = voxel_topology(result.voxels);
+  result.surface = voxel_boundary(result.voxels, &result.corner);
+  result.stage_seconds = {{"plane merging undone", std::chrono::duration<double>(Clock::now() - start).count()}};
   return result;
 }
 

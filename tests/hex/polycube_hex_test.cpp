@@ -1,5 +1,6 @@
 // polycube_hex_mesh() end to end: a box gives a perfect grid; a sphere, a torus and the
-// genus-3 model give valid hex meshes (no inverted hex) close to the input.
+// genus-3 model give valid hex meshes (no inverted hex) close to the input; the closed dog
+// goes to the unmerged polycube when the merged one folds its surface map.
 #include "polycube/shapes.hpp"
 #include "structmesh/error.hpp"
 #include "structmesh/hex.hpp"
@@ -115,6 +116,25 @@ TEST(PolycubeHexMesh, GenusThreeModelFromTheDataSet) {
   EXPECT_EQ(result.polycube.final.handles, 3);
   expect_valid_hex_mesh(result);
   EXPECT_LT(result.geometric_deviation, 0.01);
+}
+
+TEST(PolycubeHexMesh, ThinPartsFoldTheMergedMapAndTheUnmergedPolycubeTakesOver) {
+  // The closed dog's ears, legs and tail are a voxel or two thick: the merged facet planes
+  // squash them, Q's surface map stays folded on P, and the mesh is made on the unmerged
+  // polycube from the start.
+  const std::filesystem::path path = data_dir() / "surfaces" / "tosca_dog0_closed.off";
+  ASSERT_TRUE(std::filesystem::exists(path)) << path << " missing: set STRUCTMESH_DATA";
+  HexOptions options;
+  options.target_hexes = 10000;
+  const HexResult result = polycube_hex_mesh(to_tri_mesh(read_mesh(path)), options);
+  EXPECT_TRUE(result.merged_map_folded);
+  EXPECT_TRUE(result.unmerged_kept);
+  EXPECT_EQ(result.polycube.plane_merge.removed, 0U);
+  EXPECT_EQ(result.quality.inverted, 0u);
+  EXPECT_EQ(result.quality.invalid, 0u);
+  EXPECT_GT(result.quality.scaled_jacobian_stats.min, 0.3);
+  const FaceAdjacency<4> faces = build_faces(result.mesh);
+  EXPECT_TRUE(faces.extra_cells.empty());
 }
 
 TEST(PolycubeHexMesh, BadInput) {

@@ -87,6 +87,28 @@ TEST(BuildPolycube, SphereIsABallOfFewCorners) {
   EXPECT_LE(result.optimization.after.corners, 64U);  // a blocky ball, not a staircase
 }
 
+TEST(BuildPolycube, WithoutPlaneMergingIsTheUnmergedBuild) {
+  const TriMesh surface = torus(2, 0.6, 64, 32);
+  const PolycubeResult merged = build_polycube(surface);
+  ASSERT_FALSE(merged.voxels_before_merge.occupied.empty());
+  PolycubeOptions off;
+  off.merge_planes_within = 0;
+  const PolycubeResult built = build_polycube(surface, off);
+  EXPECT_TRUE(built.voxels_before_merge.occupied.empty());
+  const PolycubeResult undone = without_plane_merging(merged);
+  EXPECT_EQ(undone.voxels.occupied, built.voxels.occupied);
+  EXPECT_EQ(undone.voxels.dims, built.voxels.dims);
+  EXPECT_EQ(undone.surface.points, built.surface.points);
+  EXPECT_EQ(undone.surface.quads, built.surface.quads);
+  EXPECT_EQ(undone.corner, built.corner);
+  EXPECT_EQ(undone.plane_merge.planes_after, built.plane_merge.planes_after);
+  EXPECT_EQ(undone.plane_merge.removed, 0U);
+  EXPECT_EQ(undone.optimization.after.corners, built.optimization.after.corners);
+  EXPECT_EQ(undone.final.handles, 1);
+  // Undoing what was not merged changes nothing.
+  EXPECT_EQ(without_plane_merging(built).voxels.occupied, built.voxels.occupied);
+}
+
 TEST(BuildPolycube, RefusesAnOpenSurface) {
   TriMesh open = sphere(1, 8, 16);
   open.triangles.pop_back();
