@@ -12,6 +12,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <stdexcept>
+#include <string>
 
 namespace structmesh {
 namespace {
@@ -107,12 +109,17 @@ TEST(PolycubeHexMesh, SphereAndTorusGiveValidMeshesNearTheInput) {
   }
 }
 
-TEST(PolycubeHexMesh, GenusThreeModelFromTheDataSet) {
-  const std::filesystem::path path = data_dir() / "surfaces" / "3holes.off";
-  ASSERT_TRUE(std::filesystem::exists(path)) << path << " missing: set STRUCTMESH_DATA";
+// A surface of the data set meshed at about `hexes` hexes (the test fails if it is missing).
+HexResult mesh_data_model(const std::string& name, std::size_t hexes) {
+  const std::filesystem::path path = data_dir() / "surfaces" / name;
+  if (!std::filesystem::exists(path)) throw std::runtime_error(path.string() + " missing: set STRUCTMESH_DATA");
   HexOptions options;
-  options.target_hexes = 3000;
-  const HexResult result = polycube_hex_mesh(to_tri_mesh(read_mesh(path)), options);
+  options.target_hexes = hexes;
+  return polycube_hex_mesh(to_tri_mesh(read_mesh(path)), options);
+}
+
+TEST(PolycubeHexMesh, GenusThreeModelFromTheDataSet) {
+  const HexResult result = mesh_data_model("3holes.off", 3000);
   EXPECT_EQ(result.polycube.final.handles, 3);
   expect_valid_hex_mesh(result);
   EXPECT_LT(result.geometric_deviation, 0.01);
@@ -122,11 +129,7 @@ TEST(PolycubeHexMesh, ThinPartsFoldTheMergedMapAndTheUnmergedPolycubeTakesOver) 
   // The closed dog's ears, legs and tail are a voxel or two thick: the merged facet planes
   // squash them, Q's surface map stays folded on P, and the mesh is made on the unmerged
   // polycube from the start.
-  const std::filesystem::path path = data_dir() / "surfaces" / "tosca_dog0_closed.off";
-  ASSERT_TRUE(std::filesystem::exists(path)) << path << " missing: set STRUCTMESH_DATA";
-  HexOptions options;
-  options.target_hexes = 10000;
-  const HexResult result = polycube_hex_mesh(to_tri_mesh(read_mesh(path)), options);
+  const HexResult result = mesh_data_model("tosca_dog0_closed.off", 10000);
   EXPECT_TRUE(result.merged_map_folded);
   EXPECT_TRUE(result.unmerged_kept);
   EXPECT_EQ(result.polycube.plane_merge.removed, 0U);
