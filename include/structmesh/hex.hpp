@@ -235,11 +235,11 @@ struct HexResult {
   bool extraction_retried = false;
   bool boundary_from_p_kept = false;  ///< ... and that mesh was better, so this is it
   bool merging_retried = false;       ///< the first mesh had inverted hexes and was made again unmerged
+  bool unmerged_kept = false;         ///< ... and the unmerged one was better, so this is it
   /// The surface map onto the merged-plane polycube kept more than 2% of Q's triangles
   /// folded after its relaxation, so the first attempt stopped there and the mesh was made
   /// on the unmerged polycube (merging_retried and unmerged_kept are set too).
   bool merged_map_folded = false;
-  bool unmerged_kept = false;  ///< ... and the unmerged one was better, so this is it
   std::vector<std::pair<std::string, double>> stage_seconds;
 };
 

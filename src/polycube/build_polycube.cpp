@@ -85,6 +85,12 @@ void voxelize_keeping_topology(PolycubeResult& result, const PolycubeOptions& op
   }
 }
 
+// What the final voxels give: their topology and P, their boundary (with its corners).
+void describe_voxels(PolycubeResult& result) {
+  result.final = voxel_topology(result.voxels);
+  result.surface = voxel_boundary(result.voxels, &result.corner);
+}
+
 }  // namespace
 
 PolycubeResult build_polycube(const TriMesh& input, const PolycubeOptions& options) {
@@ -160,11 +166,10 @@ PolycubeResult build_polycube(const TriMesh& input, const PolycubeOptions& optio
   result.plane_merge = merge_facet_planes(result.voxels, options.merge_planes_within, options.progress);
   if (result.plane_merge.removed > 0)
     result.optimization.after = polycube_energy(result.voxels, distance, optimization.alpha, &voxelized);
-  result.final = voxel_topology(result.voxels);
+  describe_voxels(result);
   if (!same_topology(result.final, result.expected) || !is_well_composed(result.voxels))
     throw Error("polycube: the optimisation changed the topology to " + topology_text(result.final) +
                 " (a bug: homotopic operations keep it)");
-  result.surface = voxel_boundary(result.voxels, &result.corner);
   stage("optimisation");
   return result;
 }
@@ -178,8 +183,7 @@ PolycubeResult without_plane_merging(const PolycubeResult& merged) {
   // As build_polycube() with merging off: the planes counted, the energy the optimisation's.
   result.plane_merge = merge_facet_planes(result.voxels, 0);
   result.optimization.after = merged.before_merge;
-  result.final = voxel_topology(result.voxels);
-  result.surface = voxel_boundary(result.voxels, &result.corner);
+  describe_voxels(result);
   result.stage_seconds = {{"plane merging undone", std::chrono::duration<double>(Clock::now() - start).count()}};
   return result;
 }
