@@ -162,16 +162,19 @@ VisibilityOracle& VisibilityOracle::operator=(VisibilityOracle&&) noexcept = def
 std::size_t VisibilityOracle::vertex_count() const { return impl_->points.size(); }
 std::size_t VisibilityOracle::face_count() const { return impl_->triangles.size(); }
 
-bool VisibilityOracle::segment_blocked(const Vec3& p, Index vertex) const {
-  const Impl& m = *impl_;
-  const Vec3& v = m.points[vertex];
+namespace {
+
+// The ray p -> v of the rule, in the scene's centred float frame, ending where the
+// window at v begins (see VisibilityOptions). False when the segment is too short to
+// test (then nothing blocks it).
+bool make_ray(const Vec3& p, const Vec3& v, const Vec3& centre, double diagonal, const VisibilityOptions& options,
+              RTCRay& ray) {
   const double length = (v - p).norm();
   if (length == 0) return false;
-  // See VisibilityOptions: the window at v that v's own faces could hit after rounding.
-  const double eps = std::max(m.options.relative_eps, m.options.float_margin * m.diagonal / length);
+  const double eps = std::max(options.relative_eps, options.float_margin * diagonal / length);
   if (eps >= 1) return false;
-  const Vec3 o = p - m.centre, w = v - m.centre;
-  RTCRay ray{};
+  const Vec3 o = p - centre, w = v - centre;
+  ray = RTCRay{};
   ray.org_x = static_cast<float>(o.x());
   ray.org_y = static_cast<float>(o.y());
   ray.org_z = static_cast<float>(o.z());
@@ -181,11 +184,57 @@ bool VisibilityOracle::segment_blocked(const Vec3& p, Index vertex) const {
   ray.tnear = 0.0f;
   ray.tfar = static_cast<float>(1.0 - eps);
   ray.mask = std::numeric_limits<unsigned>::max();
+  return true;
+}
+
+}  // namespace
+
+bool VisibilityOracle::segment_blocked(const Vec3& p, Index vertex) const {
+  const Impl& m = *impl_;
+  RTCRay ray;
+  if (!make_ray(p, m.points[vertex], m.centre, m.diagonal, m.options, ray)) return false;
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   rtcOccluded1(m.scene, &context, &ray);
   // Embree sets tfar to -inf when it finds any hit in [tnear, tfar].
   return ray.tfar < 0;
+}
+
+void VisibilityOracle::sees_many(const Vec3& p, std::span<const Index> vertices,
+                                 std::span<std::uint8_t> visible) const {
+  const Impl& m = *impl_;
+  if (visible.size() != vertices.size())
+    throw Error("VisibilityOracle::sees_many: " + std::to_string(visible.size()) + " answers for " +
+                std::to_string(vertices.size()) + " vertices");
+  // The same rule as sees(), with the rays of one origin traced as one stream
+  // (rtcOccluded1M). Vertices the test at v rejects cast no ray. Without Embree's
+  // coherent flag: with it the hand took 2x longer, the bunny 1.4x (TOSCA dog, same
+  // candidates: single calls 10.7 s, coherent stream 9.3 s, plain stream 6.9-7.8 s).
+  std::vector<RTCRay> rays;
+  std::vector<std::uint32_t> slot;
+  rays.reserve(vertices.size());
+  slot.reserve(vertices.size());
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    const Vec3 d = p - m.points[vertices[i]];
+    visible[i] = 0;
+    if (d.squaredNorm() == 0) {
+      visible[i] = 1;
+      continue;
+    }
+    if (!enters_interior(vertices[i], d)) continue;
+    RTCRay ray;
+    if (!make_ray(p, m.points[vertices[i]], m.centre, m.diagonal, m.options, ray)) {
+      visible[i] = 1;
+      continue;
+    }
+    rays.push_back(ray);
+    slot.push_back(static_cast<std::uint32_t>(i));
+  }
+  if (rays.empty()) return;
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  rtcOccluded1M(m.scene, &context, rays.data(), static_cast<unsigned>(rays.size()), sizeof(RTCRay));
+  for (std::size_t r = 0; r < rays.size(); ++r) visible[slot[r]] = rays[r].tfar < 0 ? 0 : 1;
 }
 
 bool VisibilityOracle::enters_interior(Index vertex, const Vec3& d) const {
@@ -203,9 +252,18 @@ bool VisibilityOracle::enters_interior(Index vertex, const Vec3& d) const {
   // Fast path: strictly below every face plane of v is inside whichever feature is
   // nearest (face: h < 0; edge: the sum of two negative products; apex: a positive
   // combination of the face normals), so the full search below would agree.
-  bool below_all = true;
-  for (const Index f : fan) below_all = below_all && d.dot(m.face_normals[f]) < -kPlaneTolerance * length;
+  // Likewise strictly above every face plane is outside whatever the nearest feature
+  // (h > 0 on a face; on an edge off·n1 = d·n1 > 0 as the edge lies in both planes; at
+  // the apex a positive combination), which settles most back-facing vertices without
+  // the search.
+  bool below_all = true, above_all = true;
+  for (const Index f : fan) {
+    const double h = d.dot(m.face_normals[f]);
+    below_all = below_all && h < -kPlaneTolerance * length;
+    above_all = above_all && h > kPlaneTolerance * length;
+  }
   if (below_all) return true;
+  if (above_all) return false;
   double best = std::numeric_limits<double>::infinity();
   double sign = 0;
   for (const Index f : fan) {

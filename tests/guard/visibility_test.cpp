@@ -10,8 +10,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <cstdio>
 #include <random>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -218,14 +220,20 @@ struct ExactSurface {
 
 struct Agreement {
   std::size_t pairs = 0, disagreements = 0, visible = 0;
+  std::size_t stream_disagreements = 0;  // of sees_many(), the rays of one point as one stream
 };
 
 void compare_with_exact(const TriMesh& mesh, const std::vector<Vec3>& points, Agreement& agreement) {
   const VisibilityOracle oracle(mesh);
   const ExactSurface exact(mesh);
+  std::vector<Index> all(mesh.points.size());
+  for (Index v = 0; v < all.size(); ++v) all[v] = v;
+  std::vector<std::uint8_t> streamed(all.size());
   for (const Vec3& p : points) {
+    oracle.sees_many(p, all, streamed);
     for (Index v = 0; v < mesh.points.size(); ++v) {
       const bool expected = exact.sees(p, v);
+      agreement.stream_disagreements += (streamed[v] != 0) != expected ? 1 : 0;
       ++agreement.pairs;
       agreement.visible += expected ? 1 : 0;
       if (oracle.sees(p, v) != expected) {
@@ -271,13 +279,45 @@ TEST(Visibility, AgreesWithExactBruteForceOnNonConvexSolids) {
     }
     compare_with_exact(notched, points, agreement);
   }
-  std::printf("exact comparison: %zu pairs, %zu visible, %zu disagreements\n", agreement.pairs, agreement.visible,
-              agreement.disagreements);
+  std::printf("exact comparison: %zu pairs, %zu visible, %zu disagreements (%zu as ray streams)\n", agreement.pairs,
+              agreement.visible, agreement.disagreements, agreement.stream_disagreements);
   ASSERT_GT(agreement.pairs, 3000u);
   // Both outcomes must be common, or the comparison says little.
   EXPECT_GT(agreement.visible, agreement.pairs / 10);
   EXPECT_LT(agreement.visible, agreement.pairs * 9 / 10);
   EXPECT_LE(agreement.disagreements * 1000, agreement.pairs);
+  EXPECT_LE(agreement.stream_disagreements * 1000, agreement.pairs);
+}
+
+TEST(Visibility, StreamedRaysBlockGrazingSegmentsAndCheckTheirInput) {
+  // The L of GrazingSegmentsAreBlocked, asked as one stream per point: every vertex
+  // with sees_many() as with sees() (no grazing ray there is decided by rounding), the
+  // segment through the reflex vertex (1, 1, 1) blocked.
+  std::vector<Cell> cells;
+  for (int k = 0; k < 2; ++k) {
+    for (int i = 0; i < 3; ++i) cells.push_back({i, 0, k});
+    for (int j = 1; j < 3; ++j) cells.push_back({0, j, k});
+  }
+  const TriMesh mesh = voxel_surface(cells);
+  const VisibilityOracle oracle(mesh);
+  std::vector<Index> all(mesh.points.size());
+  for (Index v = 0; v < all.size(); ++v) all[v] = v;
+  std::vector<std::uint8_t> visible(all.size());
+  std::size_t seen = 0;
+  for (const Vec3& p : {Vec3(1.5, 0.5, 1.5), Vec3(0.5, 0.5, 0.5), Vec3(0.5, 2.5, 1.5), Vec3(2.9, 0.1, 0.1)}) {
+    oracle.sees_many(p, all, visible);
+    for (Index v = 0; v < all.size(); ++v) {
+      EXPECT_EQ(visible[v] != 0, oracle.sees(p, v)) << "from " << p.transpose() << " to " << mesh.points[v].transpose();
+      seen += visible[v];
+    }
+  }
+  EXPECT_GT(seen, all.size());
+  oracle.sees_many(Vec3(1.5, 0.5, 1.5), std::vector<Index>{vertex_at(mesh, Vec3(0, 2, 0))},
+                   std::span(visible).first(1));
+  EXPECT_EQ(visible[0], 0);
+  // An empty stream is fine; answers of the wrong length are an error.
+  oracle.sees_many(Vec3(0.5, 0.5, 0.5), {}, {});
+  EXPECT_THROW(oracle.sees_many(Vec3(0.5, 0.5, 0.5), all, std::span(visible).first(2)), Error);
 }
 
 }  // namespace
