@@ -30,6 +30,18 @@ Index vertex_at(const TriMesh& mesh, const Vec3& p) {
   return 0;
 }
 
+// A two-cell-thick L of unit cubes: arm A along x (3 cells), arm B along y (2 more),
+// two layers in z. Its reflex edge x = y = 1 runs from z = 0 to 2 through the surface
+// vertex (1, 1, 1).
+TriMesh two_cell_thick_l() {
+  std::vector<Cell> cells;
+  for (int k = 0; k < 2; ++k) {
+    for (int i = 0; i < 3; ++i) cells.push_back({i, 0, k});
+    for (int j = 1; j < 3; ++j) cells.push_back({0, j, k});
+  }
+  return voxel_surface(cells);
+}
+
 TEST(Visibility, UnitCubeCentreSeesEverythingAndAnOutsidePointNothing) {
   const TriMesh cube = voxel_surface({{0, 0, 0}});
   ASSERT_EQ(cube.points.size(), 8u);
@@ -93,12 +105,7 @@ TEST(Visibility, LShapeArmsHideEachOtherButTheCornerSeesBoth) {
 TEST(Visibility, GrazingSegmentsAreBlocked) {
   // A two-cell-thick L: the reflex edge x = y = 1 runs from z = 0 to 2 through the
   // surface vertex (1, 1, 1). The solid near it is {x < 1 or y < 1}.
-  std::vector<Cell> cells;
-  for (int k = 0; k < 2; ++k) {
-    for (int i = 0; i < 3; ++i) cells.push_back({i, 0, k});
-    for (int j = 1; j < 3; ++j) cells.push_back({0, j, k});
-  }
-  const TriMesh mesh = voxel_surface(cells);
+  const TriMesh mesh = two_cell_thick_l();
   const VisibilityOracle oracle(mesh);
   const Index v = vertex_at(mesh, Vec3(0, 2, 0));
   ASSERT_EQ(mesh.points[vertex_at(mesh, Vec3(1, 1, 1))], Vec3(1, 1, 1));
@@ -293,12 +300,7 @@ TEST(Visibility, StreamedRaysBlockGrazingSegmentsAndCheckTheirInput) {
   // The L of GrazingSegmentsAreBlocked, asked as one stream per point: every vertex
   // with sees_many() as with sees() (no grazing ray there is decided by rounding), the
   // segment through the reflex vertex (1, 1, 1) blocked.
-  std::vector<Cell> cells;
-  for (int k = 0; k < 2; ++k) {
-    for (int i = 0; i < 3; ++i) cells.push_back({i, 0, k});
-    for (int j = 1; j < 3; ++j) cells.push_back({0, j, k});
-  }
-  const TriMesh mesh = voxel_surface(cells);
+  const TriMesh mesh = two_cell_thick_l();
   const VisibilityOracle oracle(mesh);
   std::vector<Index> all(mesh.points.size());
   for (Index v = 0; v < all.size(); ++v) all[v] = v;
