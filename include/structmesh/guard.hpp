@@ -82,10 +82,11 @@ class VisibilityOracle {
   /// Whether surface vertex `vertex` is visible from p (the rule above).
   bool sees(const Vec3& p, Index vertex) const;
   /// visible[i] = sees(p, vertices[i]) for every i, the rays traced as one stream
-  /// (1.4x faster on the TOSCA dog than one call per vertex). Embree's packet
-  /// kernels may decide a ray that grazes an edge or vertex otherwise than its
-  /// single-ray one (both block such rays up to float rounding); the answers depend only
-  /// on p and `vertices`, so equal calls give equal answers.
+  /// (1.4x faster on the TOSCA dog than one call per vertex; sees() is a stream of
+  /// one). Embree may trace a longer stream in packets, whose kernels may decide a ray
+  /// that grazes an edge or vertex otherwise than its single-ray one (both block such
+  /// rays up to float rounding); the answers depend only on p and `vertices`, so equal
+  /// calls give equal answers.
   void sees_many(const Vec3& p, std::span<const Index> vertices, std::span<std::uint8_t> visible) const;
   /// Whether the segment [p, v] meets the surface before the excluded window at v
   /// (the ray part of the rule alone, without the test at v).

@@ -304,9 +304,11 @@ bool VisibilityOracle::enters_interior(Index vertex, const Vec3& d) const {
 }
 
 bool VisibilityOracle::sees(const Vec3& p, Index vertex) const {
-  const Vec3 d = p - impl_->points[vertex];
-  if (d.squaredNorm() == 0) return true;
-  return enters_interior(vertex, d) && !segment_blocked(p, vertex);
+  // A stream of one: the rule is written once, in sees_many().
+  const Index vertices[1] = {vertex};
+  std::uint8_t visible = 0;
+  sees_many(p, vertices, std::span(&visible, 1));
+  return visible != 0;
 }
 
 }  // namespace structmesh

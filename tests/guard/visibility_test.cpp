@@ -298,8 +298,8 @@ TEST(Visibility, AgreesWithExactBruteForceOnNonConvexSolids) {
 
 TEST(Visibility, StreamedRaysBlockGrazingSegmentsAndCheckTheirInput) {
   // The L of GrazingSegmentsAreBlocked, asked as one stream per point: every vertex
-  // with sees_many() as with sees() (no grazing ray there is decided by rounding), the
-  // segment through the reflex vertex (1, 1, 1) blocked.
+  // as in a stream of its own, sees() (no grazing ray there is decided by rounding),
+  // the segment through the reflex vertex (1, 1, 1) blocked.
   const TriMesh mesh = two_cell_thick_l();
   const VisibilityOracle oracle(mesh);
   std::vector<Index> all(mesh.points.size());
