@@ -2,12 +2,8 @@
 # Installs what is missing, builds (Release, warnings as errors) and runs the whole test suite.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
-# Results depend on the BLAS kernels (CHOLMOD's supernodal factorisation calls them):
-# OpenBLAS picks them by CPU, and its AVX-512 kernels round differently from its AVX2 ones.
-# The closed dog's hex mesh at 10k hexes has its worst hex at 0.54 with the AVX2 kernels,
-# 0.14 with the AVX-512 ones (measured 2026-12-04). The tests pin the AVX2 kernels where the
-# CPU has them, so that a run gives the same meshes on every CI machine.
-if grep -q avx2 /proc/cpuinfo 2>/dev/null; then export OPENBLAS_CORETYPE=${OPENBLAS_CORETYPE:-Haswell}; fi
+# OpenBLAS pinned to its AVX2 kernels where the CPU has them (why: in the script).
+source "$root/scripts/pin-blas.sh"
 "$root/scripts/install-deps.sh"
 "$root/scripts/build.sh" -DSTRUCTMESH_WERROR=ON
 cd "${BUILD_DIR:-$root/build}"

@@ -410,7 +410,8 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
   const bool retry_possible = result.map.released_boundary_points > 0;
   // Where a retry is possible, a first mesh that stays tangled after the untangling gets no
   // smoothing sweeps: it loses to any untangled retry. Otherwise both meshes get
-  // kSweepsBeforeComparison sweeps, are compared so, and the kept one is smoothed on.
+  // kSweepsBeforeComparison sweeps, are compared so, and the kept one is smoothed in full
+  // (finish_smoothing).
   HexMesh first_unsmoothed = extract(map_boundary, "", retry_possible, retry_possible);
   if (!retry_possible) return result;
   const auto sound = [&] {
