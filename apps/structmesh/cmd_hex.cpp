@@ -111,6 +111,12 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
                   "costs up to 10 sweeps)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
+  command
+      .add_option("--mean-below", settings->options.smoothing.mean_below,
+                  "Joint ascents of the mean scaled Jacobian (the worst hex held) end the smoothing while the mean "
+                  "is below this (0: none, 1: always; they cost about a tenth of the run)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
   command.add_option("--view", settings->view, "Viewing direction of the .png: azimuth and elevation in degrees")
       ->expected(2)
       ->delimiter(',');
@@ -230,6 +236,8 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
                  {"smoothing",
                   {{"sweeps", result.smoothing.sweeps},
                    {"polish_rounds", result.smoothing.polish_rounds},
+                   {"mean_ascent_rounds", result.smoothing.mean_ascent_rounds},
+                   {"mean_scaled_jacobian_before_ascent", result.smoothing.mean_scaled_jacobian_before_ascent},
                    {"feature_points", result.smoothing.feature_points},
                    {"released_boundary_points", result.smoothing.released_boundary_points},
                    {"inverted_before", result.smoothing.inverted_before},

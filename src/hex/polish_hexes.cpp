@@ -29,21 +29,6 @@ using hex_jacobian_sample::kAxisSigns;
 // k = 60 took the worst from 0.280 to 0.278, 200 to 0.287, 3000 to 0.291 per round).
 constexpr double kSharpness = 3000.0;
 
-// s = det(a, b, d) / (|a| |b| |d|) and its gradients with respect to a, b and d; false when
-// an edge is degenerate.
-bool sample_with_gradient(const Vec3& a, const Vec3& b, const Vec3& d, double& s, Vec3& ga, Vec3& gb, Vec3& gd) {
-  const double la2 = a.squaredNorm(), lb2 = b.squaredNorm(), ld2 = d.squaredNorm();
-  constexpr double kTiny = hex_jacobian_sample::kDegenerateSquaredLength;
-  if (la2 <= kTiny || lb2 <= kTiny || ld2 <= kTiny) return false;
-  const double lengths = std::sqrt(la2 * lb2 * ld2);
-  const Vec3 bd = b.cross(d), da = d.cross(a), ab = a.cross(b);
-  s = a.dot(bd) / lengths;
-  ga = bd / lengths - s * a / la2;
-  gb = da / lengths - s * b / lb2;
-  gd = ab / lengths - s * d / ld2;
-  return true;
-}
-
 class SoftMinimum {
  public:
   // The unknowns are the free points in units of `size` (the mean edge length) from the

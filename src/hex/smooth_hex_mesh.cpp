@@ -80,6 +80,19 @@ constexpr int kPolishRounds = 10, kPolishRings = 3, kSweepsAfterPolish = 10;
 constexpr double kPolishMargin = 0.05, kPolishMinimumGain = 1e-4;
 // Joint untangling frees the points within this many hex rings of the inverted hexes.
 constexpr int kRegionRings = 4;
+// The ascent of the mean (Smoother::raise_mean): the points of the hexes within
+// kMeanFrozenMargin of the worst stay put, every other hex stays kMeanFloorMargin above the
+// worst; kMeanIterations L-BFGS iterations per round, then up to kBoundaryMeanSweeps sweeps
+// of the boundary points; at most kMeanRounds rounds, while the mean gains kMeanMinimumGain.
+// Fertility at 18k hexes: 0.932 -> 0.942 after one round of 100 iterations, 0.943 after
+// two (three: the same); 50 iterations, 0.941; 400, 0.942. The bunny at 80k hexes: 0.944
+// -> 0.949 in 6 s of a 62 s run.
+constexpr double kMeanFrozenMargin = 0.1, kMeanFloorMargin = 0.05, kMeanMinimumGain = 1e-3;
+constexpr int kMeanRounds = 2, kMeanIterations = 100;
+constexpr int kBoundaryMeanSweeps = 10;
+constexpr double kBoundarySweepGain = 2e-5;
+// A boundary move of that ascent must raise the sum of its hexes' scores by this much.
+constexpr double kMinimumSumGain = 1e-9;
 // ... and refuses a placement that moves a point by more than this many mean edge lengths.
 constexpr double kMaxJointMove = 6.0;
 // How far untangle_point() may take a boundary point from where the smoothing found it, in
@@ -506,6 +519,52 @@ class Smoother {
     return true;
   }
 
+  // Joint ascent of the mean (raise_mean_scaled_jacobian.cpp) over the interior points,
+  // with every hex kept at least kMeanFloorMargin above the worst hex of the mesh. The
+  // points of the hexes within kMeanFrozenMargin of the worst stay put: those hexes are what
+  // the sweeps and the polish balanced, and a barrier this close to them would cut every
+  // step of the joint line search short. Returns whether the points moved.
+  bool raise_mean() {
+    const double worst = score_statistics(score_).min;
+    if (!(worst > 0)) return false;
+    std::vector<std::uint8_t> frozen(mesh_.points.size(), 0);
+    for (std::size_t h = 0; h < mesh_.hexes.size(); ++h)
+      if (score_[h] < worst + kMeanFrozenMargin)
+        for (const Index v : mesh_.hexes[h]) frozen[v] = 1;
+    std::vector<Index> free;
+    for (std::size_t v = 0; v < mesh_.points.size(); ++v)
+      if (movable_[v] && !boundary_[v] && !frozen[v]) free.push_back(static_cast<Index>(v));
+    std::vector<std::array<Index, 8>> hexes;
+    std::vector<Index> hex_ids;
+    hexes_using(free, hex_ids, hexes);
+    // Every hex here has a free point, so none is within kMeanFrozenMargin of the worst.
+    const std::vector<double> floor(hexes.size(), worst + kMeanFloorMargin);
+    const hex_detail::HexMeanAscentResult ascent =
+        hex_detail::raise_mean_scaled_jacobian(mesh_.points, hexes, free, floor, kMeanIterations);
+    if (!(ascent.score_sum_after > ascent.score_sum_before)) return false;
+    for (const Index h : hex_ids) score_[h] = hex_score(h);
+    return true;
+  }
+
+  // One sweep over the movable boundary points, each moved (along the gradient of the sum of
+  // its hexes' scores, else towards its neighbours' centroid, and back onto the surface)
+  // where that raises the sum, no hex falls below the worst one around the point or below
+  // `floor`. The joint ascent leaves these points where the sweeps for the worst hex put
+  // them. Returns the number of moves.
+  std::size_t boundary_mean_sweep(double floor) {
+    std::atomic<std::size_t> moves{0};
+    for (const std::vector<Index>& colour : colours_) {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, colour.size(), kGrain), [&](const auto& range) {
+        MoveScratch scratch;
+        std::size_t local = 0;
+        for (std::size_t k = range.begin(); k != range.end(); ++k)
+          if (boundary_[colour[k]]) local += raise_sum_at(colour[k], floor, scratch);
+        moves.fetch_add(local, std::memory_order_relaxed);
+      });
+    }
+    return moves.load();
+  }
+
   // Boundary points of the hexes still inverted stop being put back on the surface: where
   // the surface folds tighter than a hex, no point on it unfolds the hex, and a valid mesh a
   // little off the surface there beats an inverted one on it. Returns how many were released.
@@ -626,10 +685,11 @@ class Smoother {
 
   // Tries a new position for v (after prepare_tries): kept (with the scores of v's hexes) if
   // no hex of v gets below their old worst value or a valid one inverts, and the worst value
-  // or the sum rises. The same decision as scoring each hex in full: a sample below old_min
+  // or the sum rises (with `sum_only`, the sum). The same decision as scoring each hex in full: a sample below old_min
   // puts its hex below old_min whatever the others are (a degenerate one scores
   // kInvalidScore, below every sample).
-  bool try_position(Index v, const Vec3& candidate, double old_min, double old_sum, MoveScratch& scratch) {
+  bool try_position(Index v, const Vec3& candidate, double old_min, double old_sum, MoveScratch& scratch,
+                    bool sum_only = false) {
     const auto hexes = point_hexes_.row(v);
     mesh_.points[v] = candidate;
     scratch.scores.clear();
@@ -660,7 +720,7 @@ class Smoother {
       new_sum += s;
       scratch.scores.push_back(s);
     }
-    if (!(new_min > old_min || new_sum > old_sum)) return false;
+    if (sum_only ? !(new_sum > old_sum + kMinimumSumGain) : !(new_min > old_min || new_sum > old_sum)) return false;
     for (std::size_t k = 0; k < hexes.size(); ++k) score_[hexes[k]] = scratch.scores[k];
     return true;
   }
@@ -732,6 +792,43 @@ class Smoother {
       direction += std::min(1.0, gap / towards.squaredNorm()) * towards;
     }
     return {direction, sum_gradient};
+  }
+
+  // A move of boundary_mean_sweep(): kept if the sum of v's hex scores rises and none falls
+  // below min(their worst, floor).
+  bool raise_sum_at(Index v, double floor, MoveScratch& scratch) {
+    double old_min = std::numeric_limits<double>::infinity(), old_sum = 0;
+    for (const Index h : point_hexes_.row(v)) {
+      old_min = std::min(old_min, score_[h]);
+      old_sum += score_[h];
+    }
+    const auto ring = surface_neighbours_.row(v);
+    if (!(old_min > 0) || ring.empty()) return false;
+    const double lowest = std::min(old_min, floor);
+    const Vec3 start = mesh_.points[v];
+    Vec3 centroid = Vec3::Zero();
+    double length = 0;
+    for (const Index u : ring) {
+      centroid += mesh_.points[u];
+      length += (mesh_.points[u] - start).norm();
+    }
+    centroid /= static_cast<double>(ring.size());
+    length /= static_cast<double>(ring.size());
+    prepare_tries(v, scratch);
+    thread_local std::vector<std::pair<double, Vec3>> samples;
+    const Vec3 gradient = ascent_directions(v, samples).second;
+    if (const double norm = gradient.norm(); norm > 0 && std::isfinite(norm))
+      for (double step = kAscentFirstStep * length; step > kAscentLastStep * length; step *= 0.5) {
+        const Vec3 candidate = put_back(v, start + step / norm * gradient);
+        if (candidate != start && try_position(v, candidate, lowest, old_sum, scratch, true)) return true;
+      }
+    for (const double fraction : kSmoothingSteps) {
+      if (fraction > 1) continue;
+      const Vec3 candidate = put_back(v, start + fraction * (centroid - start));
+      if (candidate != start && try_position(v, candidate, lowest, old_sum, scratch, true)) return true;
+    }
+    mesh_.points[v] = start;
+    return false;
   }
 
   // One smoothing move: the first of the steps towards the Laplacian centroid, then up the
@@ -933,6 +1030,28 @@ HexSmoothingResult smooth_hex_mesh(HexMesh& mesh, const std::function<Vec3(const
     current = score_statistics(smoother.scores());
     ++result.polish_rounds;
     if (!(current.min > before + kPolishMinimumGain)) break;
+  }
+
+  // Last, the mean: joint ascents of the interior points, each followed by sweeps of the
+  // boundary points, with the worst hex held, while the mean is below options.mean_below
+  // (docs/design/hex.md: fertility at 18k hexes, mean 0.932 -> 0.942 in 1.5 s).
+  result.mean_scaled_jacobian_before_ascent = current.mean();
+  for (int round = 0; round < kMeanRounds && sweeps > 0 && current.inverted == 0 && current.mean() < options.mean_below;
+       ++round) {
+    if (options.progress) status("hex smoothing: joint ascent of the mean, round " + std::to_string(round + 1));
+    const double before = current.mean();
+    const bool moved = smoother.raise_mean();
+    // The boundary sweeps stop when one gains less than kBoundarySweepGain of the mean.
+    double mean = score_statistics(smoother.scores()).mean();
+    for (int sweep = 0; sweep < kBoundaryMeanSweeps; ++sweep) {
+      if (smoother.boundary_mean_sweep(current.min + kMeanFloorMargin) == 0) break;
+      const double swept = score_statistics(smoother.scores()).mean();
+      if (!(swept > mean + kBoundarySweepGain)) break;
+      mean = swept;
+    }
+    current = score_statistics(smoother.scores());
+    ++result.mean_ascent_rounds;
+    if (!moved || !(current.mean() > before + kMeanMinimumGain)) break;
   }
 
   result.inverted_after = current.inverted;

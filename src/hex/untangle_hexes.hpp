@@ -3,12 +3,30 @@
 #pragma once
 
 #include "structmesh/mesh.hpp"
+#include "structmesh/quality.hpp"
+
+#include <cmath>
 
 #include <array>
 #include <span>
 #include <vector>
 
 namespace structmesh::hex_detail {
+
+/// A Verdict sample s = det(a, b, d) / (|a| |b| |d|) and its gradients with respect to a, b
+/// and d; false when an edge is degenerate.
+inline bool sample_with_gradient(const Vec3& a, const Vec3& b, const Vec3& d, double& s, Vec3& ga, Vec3& gb, Vec3& gd) {
+  const double la2 = a.squaredNorm(), lb2 = b.squaredNorm(), ld2 = d.squaredNorm();
+  constexpr double kTiny = hex_jacobian_sample::kDegenerateSquaredLength;
+  if (la2 <= kTiny || lb2 <= kTiny || ld2 <= kTiny) return false;
+  const double lengths = std::sqrt(la2 * lb2 * ld2);
+  const Vec3 bd = b.cross(d), da = d.cross(a), ab = a.cross(b);
+  s = a.dot(bd) / lengths;
+  ga = bd / lengths - s * a / la2;
+  gb = da / lengths - s * b / lb2;
+  gd = ab / lengths - s * d / ld2;
+  return true;
+}
 
 struct HexUntangleResult {
   double min_det_before = 0;  ///< smallest corner determinant over the hexes involved, / size^3
@@ -35,5 +53,19 @@ struct HexPolishResult {
 /// (polish_hexes.cpp). `points` change only if the worst sample rose.
 HexPolishResult polish_hexes(std::vector<Vec3>& points, std::span<const std::array<Index, 8>> hexes,
                              std::span<const Index> free, int max_iterations = 200);
+
+struct HexMeanAscentResult {
+  double score_sum_before = 0, score_sum_after = 0;  ///< sum of the hexes' scaled Jacobians
+  int evaluations = 0;                               ///< of the energy and its gradient
+};
+
+/// Moves the points `free` jointly to raise the sum of the scaled Jacobians of `hexes` (the
+/// hexes that use them), every hex h kept above floor[h] (which it must be above at the
+/// start): L-BFGS on the sum of per-hex soft minima of the 9 Verdict samples, with a log
+/// barrier at the floors (raise_mean_scaled_jacobian.cpp), for up to max_iterations L-BFGS
+/// iterations (restarted after a failed line search). `points` change only if the sum rose.
+HexMeanAscentResult raise_mean_scaled_jacobian(std::vector<Vec3>& points, std::span<const std::array<Index, 8>> hexes,
+                                               std::span<const Index> free, std::span<const double> floor,
+                                               int max_iterations);
 
 }  // namespace structmesh::hex_detail

@@ -116,5 +116,73 @@ TEST(PolishHexes, LeavesAPerfectGridAlone) {
   EXPECT_EQ(mesh.points, start);
 }
 
+std::vector<double> hex_scores(const HexMesh& mesh) {
+  std::vector<double> scores;
+  for (const auto& h : mesh.hexes) {
+    std::array<Vec3, 8> p;
+    for (int i = 0; i < 8; ++i) p[i] = mesh.points[h[i]];
+    scores.push_back(hex_scaled_jacobian(p).value_or(-2.0));
+  }
+  return scores;
+}
+
+// A 6x6x6 grid whose interior points are displaced at random (none inverted): the joint
+// ascent raises the sum of the scaled Jacobians, keeps every hex above its floor (0.1 below
+// its start, or the start for the worst hexes) and moves only the free points.
+TEST(RaiseMeanScaledJacobian, RaisesTheMeanAndKeepsEveryHexAboveItsFloor) {
+  HexMesh mesh = test::hex_grid(6, 6, 6);
+  std::vector<Index> interior;
+  for (std::size_t v = 0; v < mesh.points.size(); ++v)
+    if (mesh.points[v].minCoeff() > 0.5 && mesh.points[v].maxCoeff() < 5.5) interior.push_back(static_cast<Index>(v));
+  ASSERT_EQ(interior.size(), 125u);
+  std::mt19937 random(9);
+  std::uniform_real_distribution<double> offset(-0.2, 0.2);
+  for (const Index v : interior) mesh.points[v] += Vec3(offset(random), offset(random), offset(random));
+  const std::vector<double> before = hex_scores(mesh);
+  const double worst = *std::min_element(before.begin(), before.end());
+  ASSERT_GT(worst, 0.0);
+  std::vector<double> floor(before.size());
+  for (std::size_t h = 0; h < before.size(); ++h)
+    floor[h] = before[h] < worst + 0.1 ? before[h] - 1e-9 : before[h] - 0.1;
+  double sum_before = 0;
+  for (const double s : before) sum_before += s;
+  const std::vector<Vec3> start = mesh.points;
+
+  const hex_detail::HexMeanAscentResult result =
+      hex_detail::raise_mean_scaled_jacobian(mesh.points, mesh.hexes, interior, floor, 300);
+  const std::vector<double> after = hex_scores(mesh);
+  double sum_after = 0;
+  for (const double s : after) sum_after += s;
+  EXPECT_NEAR(result.score_sum_before, sum_before, 1e-9);
+  EXPECT_NEAR(result.score_sum_after, sum_after, 1e-9);
+  EXPECT_GT(sum_after / static_cast<double>(after.size()), sum_before / static_cast<double>(before.size()) + 0.02)
+      << sum_before / static_cast<double>(before.size()) << " -> " << sum_after / static_cast<double>(after.size());
+  for (std::size_t h = 0; h < after.size(); ++h) EXPECT_GT(after[h], floor[h]) << h;
+  EXPECT_GE(*std::min_element(after.begin(), after.end()), worst - 1e-9);
+  for (std::size_t v = 0; v < mesh.points.size(); ++v)
+    if (std::find(interior.begin(), interior.end(), static_cast<Index>(v)) == interior.end()) {
+      EXPECT_EQ(mesh.points[v], start[v]) << v;
+    }
+}
+
+// A start below a floor, or floors that do not match the hexes, leave the points alone.
+TEST(RaiseMeanScaledJacobian, LeavesThePointsAloneWhenAHexStartsBelowItsFloor) {
+  HexMesh mesh = test::hex_grid(3, 3, 3);
+  std::vector<Index> interior;
+  for (std::size_t v = 0; v < mesh.points.size(); ++v)
+    if (mesh.points[v].minCoeff() > 0.5 && mesh.points[v].maxCoeff() < 2.5) interior.push_back(static_cast<Index>(v));
+  mesh.points[interior[0]] += Vec3(0.3, -0.2, 0.1);
+  const std::vector<Vec3> start = mesh.points;
+  std::vector<double> floor(mesh.hexes.size(), 0.0);
+  floor[3] = 1.0;  // no hex reaches 1 here
+  hex_detail::HexMeanAscentResult result =
+      hex_detail::raise_mean_scaled_jacobian(mesh.points, mesh.hexes, interior, floor, 100);
+  EXPECT_EQ(mesh.points, start);
+  EXPECT_EQ(result.score_sum_after, result.score_sum_before);
+  floor.pop_back();
+  result = hex_detail::raise_mean_scaled_jacobian(mesh.points, mesh.hexes, interior, floor, 100);
+  EXPECT_EQ(mesh.points, start);
+}
+
 }  // namespace
 }  // namespace structmesh
