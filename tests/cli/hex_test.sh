@@ -49,6 +49,26 @@ END
 status=$?
 [[ $status -eq 2 ]] || fail "--polish-below 2: exit $status, expected 2"
 
+# --mean-below: 0 runs no ascent of the mean, 1 always does; it raises the mean and holds
+# the worst hex.
+for below in 0 1; do
+  "$sm" hex "$torus" --hexes 3000 --mean-below $below -o "$work/mean$below.vtu" --json "$work/mean$below.json" --quiet ||
+    fail "hex --mean-below $below exited $?"
+done
+python3 - "$work" <<'END' || fail "--mean-below"
+import json, sys
+work = sys.argv[1]
+none, always = (json.load(open(f"{work}/mean{below}.json")) for below in (0, 1))
+assert none["smoothing"]["mean_ascent_rounds"] == 0, none["smoothing"]
+assert always["smoothing"]["mean_ascent_rounds"] >= 1, always["smoothing"]
+assert always["inverted"] == 0
+assert always["scaled_jacobian"]["mean"] > none["scaled_jacobian"]["mean"], (none["scaled_jacobian"], always["scaled_jacobian"])
+assert always["scaled_jacobian"]["min"] >= none["scaled_jacobian"]["min"], (none["scaled_jacobian"], always["scaled_jacobian"])
+END
+"$sm" hex "$torus" --hexes 100 --mean-below -0.5 -o "$work/bad.vtu" 2>/dev/null
+status=$?
+[[ $status -eq 2 ]] || fail "--mean-below -0.5: exit $status, expected 2"
+
 # Bad input: an open surface and an unsupported output exit 2.
 expect_bad_input_rejected hex vtu
 "$sm" hex "$torus" --hexes 100 --size 0.1 -o "$work/both.vtu" 2>/dev/null
