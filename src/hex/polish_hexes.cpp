@@ -23,7 +23,6 @@
 namespace structmesh::hex_detail {
 namespace {
 
-using hex_jacobian_sample::kAxisSigns;
 // Sharpness of the soft minimum: samples more than about 3/k above the worst hardly count.
 // Softer minima trade the worst sample for the ones near it (fertility's worst cluster:
 // k = 60 took the worst from 0.280 to 0.278, 200 to 0.287, 3000 to 0.291 per round).
@@ -82,11 +81,11 @@ class SoftMinimum {
   }
 
  private:
-  // Calls f(sample, gradient by node) for each of the 9 samples of every hex; a degenerate
-  // sample is reported as -infinity with no gradient.
+  // Calls f(sample, gradient by node) for each of the 9 samples of every hex; a hex with a
+  // degenerate sample is reported once, as -infinity with no gradient.
   template <class F>
   void visit(const Eigen::VectorXd& x, F&& f) {
-    std::array<Vec3, 8> p, gradient;
+    std::array<Vec3, 8> p;
     for (const auto& hex : hexes_) {
       current_ = &hex;
       for (std::size_t i = 0; i < 8; ++i) {
@@ -94,27 +93,11 @@ class SoftMinimum {
         p[i] = k == kInvalidIndex ? points_[hex[i]]
                                   : Vec3(origin_ + size_ * Vec3(x.segment<3>(3 * static_cast<Eigen::Index>(k))));
       }
-      double s = 0;
-      Vec3 ga, gb, gd;
-      for (const auto& [o, i, j, l] : hex_jacobian_sample::kCorners) {
-        if (!sample_with_gradient(p[i] - p[o], p[j] - p[o], p[l] - p[o], s, ga, gb, gd)) {
-          f(-std::numeric_limits<double>::infinity(), nullptr);
-          continue;
-        }
-        gradient.fill(Vec3::Zero());
-        gradient[i] = ga, gradient[j] = gb, gradient[l] = gd, gradient[o] = -(ga + gb + gd);
-        f(s, &gradient);
-      }
-      std::array<Vec3, 3> axis{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
-      for (std::size_t i = 0; i < 8; ++i)
-        for (std::size_t a = 0; a < 3; ++a) axis[a] += kAxisSigns[i][a] * p[i];
-      if (!sample_with_gradient(axis[0], axis[1], axis[2], s, ga, gb, gd)) {
+      if (!std::isfinite(hex_samples_with_gradients(p, value_, gradient_))) {
         f(-std::numeric_limits<double>::infinity(), nullptr);
         continue;
       }
-      for (std::size_t i = 0; i < 8; ++i)
-        gradient[i] = kAxisSigns[i][0] * ga + kAxisSigns[i][1] * gb + kAxisSigns[i][2] * gd;
-      f(s, &gradient);
+      for (std::size_t s = 0; s < 9; ++s) f(value_[s], &gradient_[s]);
     }
   }
 
@@ -125,6 +108,8 @@ class SoftMinimum {
   double size_;
   Vec3 origin_;
   const std::array<Index, 8>* current_ = nullptr;
+  std::array<double, 9> value_{};
+  std::array<std::array<Vec3, 8>, 9> gradient_{};
 };
 
 }  // namespace
@@ -133,12 +118,7 @@ HexPolishResult polish_hexes(std::vector<Vec3>& points, std::span<const std::arr
                              std::span<const Index> free, int max_iterations) {
   HexPolishResult result;
   if (free.empty() || hexes.empty()) return result;
-  double edge_sum = 0;
-  for (const auto& h : hexes)
-    for (std::size_t i = 0; i < 4; ++i)
-      edge_sum += (points[h[i]] - points[h[(i + 1) % 4]]).norm() +
-                  (points[h[i + 4]] - points[h[(i + 1) % 4 + 4]]).norm() + (points[h[i]] - points[h[i + 4]]).norm();
-  const double size = edge_sum / (12.0 * static_cast<double>(hexes.size()));
+  const double size = mean_hex_edge_length(points, hexes);
   if (!(size > 0)) return result;
   SoftMinimum energy(points, hexes, free, size);
   Eigen::VectorXd x = energy.initial();

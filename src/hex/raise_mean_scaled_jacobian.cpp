@@ -30,8 +30,6 @@
 namespace structmesh::hex_detail {
 namespace {
 
-using hex_jacobian_sample::kAxisSigns;
-
 // Sharpness k of each hex's soft minimum: within log(9)/k = 0.007 of the worst sample.
 constexpr double kSharpness = 300.0;
 // Weight mu of the barrier: its pull, mu / gap, matters only within a few hundredths of the floor.
@@ -174,26 +172,7 @@ class MeanEnergy {
       const Index k = slot_[hex[i]];
       p[i] = k == kInvalidIndex ? points_[hex[i]] : Vec3(size_ * Vec3(x.segment<3>(3 * static_cast<Eigen::Index>(k))));
     }
-    double worst = std::numeric_limits<double>::infinity();
-    Vec3 ga, gb, gd;
-    std::size_t s = 0;
-    for (const auto& [o, i, j, l] : hex_jacobian_sample::kCorners) {
-      if (!sample_with_gradient(p[i] - p[o], p[j] - p[o], p[l] - p[o], scratch.value[s], ga, gb, gd))
-        return -std::numeric_limits<double>::infinity();
-      auto& g = scratch.gradient[s];
-      g.fill(Vec3::Zero());
-      g[i] = ga, g[j] = gb, g[l] = gd, g[o] = -(ga + gb + gd);
-      worst = std::min(worst, scratch.value[s]);
-      ++s;
-    }
-    std::array<Vec3, 3> axis{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
-    for (std::size_t i = 0; i < 8; ++i)
-      for (std::size_t a = 0; a < 3; ++a) axis[a] += kAxisSigns[i][a] * p[i];
-    if (!sample_with_gradient(axis[0], axis[1], axis[2], scratch.value[8], ga, gb, gd))
-      return -std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < 8; ++i)
-      scratch.gradient[8][i] = kAxisSigns[i][0] * ga + kAxisSigns[i][1] * gb + kAxisSigns[i][2] * gd;
-    return std::min(worst, scratch.value[8]);
+    return hex_samples_with_gradients(p, scratch.value, scratch.gradient);
   }
 
   const std::vector<Vec3>& points_;
@@ -217,12 +196,7 @@ HexMeanAscentResult raise_mean_scaled_jacobian(std::vector<Vec3>& points, std::s
                                                int max_iterations) {
   HexMeanAscentResult result;
   if (free.empty() || hexes.empty() || floor.size() != hexes.size()) return result;
-  double edge_sum = 0;
-  for (const auto& h : hexes)
-    for (std::size_t i = 0; i < 4; ++i)
-      edge_sum += (points[h[i]] - points[h[(i + 1) % 4]]).norm() +
-                  (points[h[i + 4]] - points[h[(i + 1) % 4 + 4]]).norm() + (points[h[i]] - points[h[i + 4]]).norm();
-  const double size = edge_sum / (12.0 * static_cast<double>(hexes.size()));
+  const double size = mean_hex_edge_length(points, hexes);
   if (!(size > 0)) return result;
   MeanEnergy energy(points, hexes, free, floor, size);
   Eigen::VectorXd x = energy.initial();

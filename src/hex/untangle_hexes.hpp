@@ -5,7 +5,9 @@
 #include "structmesh/mesh.hpp"
 #include "structmesh/quality.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <array>
 #include <span>
@@ -26,6 +28,43 @@ inline bool sample_with_gradient(const Vec3& a, const Vec3& b, const Vec3& d, do
   gb = da / lengths - s * b / lb2;
   gd = ab / lengths - s * d / ld2;
   return true;
+}
+
+/// The 9 Verdict samples of a hex (VTK order: the 8 corners, then the centre's principal
+/// axes) and their gradients by node; returns the worst, or -infinity (values and gradients
+/// then unset) if a sample is degenerate.
+inline double hex_samples_with_gradients(const std::array<Vec3, 8>& p, std::array<double, 9>& value,
+                                         std::array<std::array<Vec3, 8>, 9>& gradient) {
+  double worst = std::numeric_limits<double>::infinity();
+  Vec3 ga, gb, gd;
+  std::size_t s = 0;
+  for (const auto& [o, i, j, l] : hex_jacobian_sample::kCorners) {
+    if (!sample_with_gradient(p[i] - p[o], p[j] - p[o], p[l] - p[o], value[s], ga, gb, gd))
+      return -std::numeric_limits<double>::infinity();
+    auto& g = gradient[s];
+    g.fill(Vec3::Zero());
+    g[i] = ga, g[j] = gb, g[l] = gd, g[o] = -(ga + gb + gd);
+    worst = std::min(worst, value[s++]);
+  }
+  std::array<Vec3, 3> axis{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+  for (std::size_t i = 0; i < 8; ++i)
+    for (std::size_t a = 0; a < 3; ++a) axis[a] += hex_jacobian_sample::kAxisSigns[i][a] * p[i];
+  if (!sample_with_gradient(axis[0], axis[1], axis[2], value[8], ga, gb, gd))
+    return -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < 8; ++i)
+    gradient[8][i] = hex_jacobian_sample::kAxisSigns[i][0] * ga + hex_jacobian_sample::kAxisSigns[i][1] * gb +
+                     hex_jacobian_sample::kAxisSigns[i][2] * gd;
+  return std::min(worst, value[8]);
+}
+
+/// The mean length of the hexes' 12 edges (each edge counted once per hex).
+inline double mean_hex_edge_length(const std::vector<Vec3>& points, std::span<const std::array<Index, 8>> hexes) {
+  double edge_sum = 0;
+  for (const auto& h : hexes)
+    for (std::size_t i = 0; i < 4; ++i)
+      edge_sum += (points[h[i]] - points[h[(i + 1) % 4]]).norm() +
+                  (points[h[i + 4]] - points[h[(i + 1) % 4 + 4]]).norm() + (points[h[i]] - points[h[i + 4]]).norm();
+  return hexes.empty() ? 0.0 : edge_sum / (12.0 * static_cast<double>(hexes.size()));
 }
 
 struct HexUntangleResult {
