@@ -686,9 +686,9 @@ class Smoother {
 
   // Tries a new position for v (after prepare_tries): kept (with the scores of v's hexes) if
   // no hex of v gets below their old worst value or a valid one inverts, and the worst value
-  // or the sum rises (with `sum_only`, the sum). The same decision as scoring each hex in full: a sample below old_min
-  // puts its hex below old_min whatever the others are (a degenerate one scores
-  // kInvalidScore, below every sample).
+  // or the sum rises (with `sum_only`, the sum). The same decision as scoring each hex in
+  // full: a sample below old_min puts its hex below old_min whatever the others are (a
+  // degenerate one scores kInvalidScore, below every sample).
   bool try_position(Index v, const Vec3& candidate, double old_min, double old_sum, MoveScratch& scratch,
                     bool sum_only = false) {
     const auto hexes = point_hexes_.row(v);
@@ -795,26 +795,38 @@ class Smoother {
     return {direction, sum_gradient};
   }
 
+  // The worst and the sum of the scores of v's hexes.
+  std::pair<double, double> scores_around(Index v) const {
+    double worst = std::numeric_limits<double>::infinity(), sum = 0;
+    for (const Index h : point_hexes_.row(v)) {
+      worst = std::min(worst, score_[h]);
+      sum += score_[h];
+    }
+    return {worst, sum};
+  }
+
+  // The centroid of the points `ring`; their mean distance from `from`.
+  Vec3 centroid_of(std::span<const Index> ring) const {
+    Vec3 centroid = Vec3::Zero();
+    for (const Index u : ring) centroid += mesh_.points[u];
+    return centroid / static_cast<double>(ring.size());
+  }
+  double mean_distance(std::span<const Index> ring, const Vec3& from) const {
+    double length = 0;
+    for (const Index u : ring) length += (mesh_.points[u] - from).norm();
+    return length / static_cast<double>(ring.size());
+  }
+
   // A move of boundary_mean_sweep(): kept if the sum of v's hex scores rises and none falls
   // below min(their worst, floor).
   bool raise_sum_at(Index v, double floor, MoveScratch& scratch) {
-    double old_min = std::numeric_limits<double>::infinity(), old_sum = 0;
-    for (const Index h : point_hexes_.row(v)) {
-      old_min = std::min(old_min, score_[h]);
-      old_sum += score_[h];
-    }
+    const auto [old_min, old_sum] = scores_around(v);
     const auto ring = surface_neighbours_.row(v);
     if (!(old_min > 0) || ring.empty()) return false;
     const double lowest = std::min(old_min, floor);
     const Vec3 start = mesh_.points[v];
-    Vec3 centroid = Vec3::Zero();
-    double length = 0;
-    for (const Index u : ring) {
-      centroid += mesh_.points[u];
-      length += (mesh_.points[u] - start).norm();
-    }
-    centroid /= static_cast<double>(ring.size());
-    length /= static_cast<double>(ring.size());
+    const Vec3 centroid = centroid_of(ring);
+    const double length = mean_distance(ring, start);
     prepare_tries(v, scratch);
     thread_local std::vector<std::pair<double, Vec3>> samples;
     const Vec3 gradient = ascent_directions(v, samples).second;
@@ -837,18 +849,11 @@ class Smoother {
   // neighbours on the boundary (its inner neighbour would only pull it off the surface), and
   // its candidates are projected.
   bool smooth_point(Index v, MoveScratch& scratch) {
-    const auto hexes = point_hexes_.row(v);
-    double old_min = std::numeric_limits<double>::infinity(), old_sum = 0;
-    for (const Index h : hexes) {
-      old_min = std::min(old_min, score_[h]);
-      old_sum += score_[h];
-    }
+    const auto [old_min, old_sum] = scores_around(v);
     if (old_min >= 1) return false;  // only perfect cubes: nothing to improve
     const auto ring = boundary_[v] ? surface_neighbours_.row(v) : neighbours_.row(v);
     if (ring.empty()) return false;
-    Vec3 centroid = Vec3::Zero();
-    for (const Index u : ring) centroid += mesh_.points[u];
-    centroid /= static_cast<double>(ring.size());
+    const Vec3 centroid = centroid_of(ring);
     const Vec3 start = mesh_.points[v];
     prepare_tries(v, scratch);
     for (const double fraction : kSmoothingSteps) {
@@ -862,9 +867,7 @@ class Smoother {
     // sum of the scores of v's hexes: the centroid does not know which hex is worst, and
     // stalls where it would pull any point off its best place (docs/design/hex.md: on the
     // hand at 10k hexes, worst hex 0.18 with the centroid moves alone, 0.70 with these).
-    double length = 0;
-    for (const Index u : ring) length += (mesh_.points[u] - start).norm();
-    length /= static_cast<double>(ring.size());
+    const double length = mean_distance(ring, start);
     thread_local std::vector<std::pair<double, Vec3>> samples;
     const auto [worst_gradient, sum_gradient] = ascent_directions(v, samples);
     for (const Vec3& gradient : {worst_gradient, sum_gradient}) {
