@@ -37,10 +37,11 @@ constexpr double kBarrier = 1e-3;
 // Hexes per block of the parallel evaluation; the blocks' sums are added in order, so the
 // value does not depend on the thread count.
 constexpr std::size_t kBlock = 512;
-constexpr double kRestartGain = 1e-6;
 // L-BFGS runs at most this many times (restarted after a failed line search), and is not
-// restarted once it has evaluated the energy twice per iteration allowed.
+// restarted once it has evaluated the energy twice per iteration allowed, nor once a run
+// lowered the energy by less than kRestartGain of its value.
 constexpr int kRestarts = 10;
+constexpr double kRestartGain = 1e-6;
 
 class MeanEnergy {
  public:

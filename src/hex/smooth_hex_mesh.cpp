@@ -524,9 +524,9 @@ class Smoother {
   // with every hex kept at least kMeanFloorMargin above the worst hex of the mesh. The
   // points of the hexes within kMeanFrozenMargin of the worst stay put: those hexes are what
   // the sweeps and the polish balanced, and a barrier this close to them would cut every
-  // step of the joint line search short. Returns whether the points moved.
-  bool raise_mean() {
-    const double worst = score_statistics(score_).min;
+  // step of the joint line search short. `worst` is the mesh's worst score. Returns whether
+  // the points moved.
+  bool raise_mean(double worst) {
     if (!(worst > 0)) return false;
     std::vector<std::uint8_t> frozen(mesh_.points.size(), 0);
     for (std::size_t h = 0; h < mesh_.hexes.size(); ++h)
@@ -1044,7 +1044,7 @@ HexSmoothingResult smooth_hex_mesh(HexMesh& mesh, const std::function<Vec3(const
        ++round) {
     if (options.progress) status("hex smoothing: joint ascent of the mean, round " + std::to_string(round + 1));
     const double before = current.mean();
-    const bool moved = smoother.raise_mean();
+    const bool moved = smoother.raise_mean(current.min);
     // The boundary sweeps stop when one gains less than kBoundarySweepGain of the mean.
     double mean = score_statistics(smoother.scores()).mean();
     for (int sweep = 0; sweep < kBoundaryMeanSweeps; ++sweep) {

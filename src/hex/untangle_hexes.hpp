@@ -6,10 +6,9 @@
 #include "structmesh/quality.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
-
-#include <array>
 #include <span>
 #include <vector>
 
