@@ -112,6 +112,12 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
   command
+      .add_option("--restarts", settings->options.smoothing.restart_rounds,
+                  "Rounds of fresh starts of the worst hexes (untangled and swept again from the map) while the "
+                  "worst is below --polish-below; a start is kept only if it raises the worst (0: none)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 100));
+  command
       .add_option("--mean-below", settings->options.smoothing.mean_below,
                   "Joint ascents of the mean scaled Jacobian (the worst hex held) end the smoothing while the mean "
                   "is below this (0: none, 1: always; they cost about a tenth of the run)")
@@ -236,6 +242,8 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
                  {"smoothing",
                   {{"sweeps", result.smoothing.sweeps},
                    {"polish_rounds", result.smoothing.polish_rounds},
+                   {"restarts", result.smoothing.restarts},
+                   {"restarts_tried", result.smoothing.restarts_tried},
                    {"mean_ascent_rounds", result.smoothing.mean_ascent_rounds},
                    {"mean_scaled_jacobian_before_ascent", result.smoothing.mean_scaled_jacobian_before_ascent},
                    {"feature_points", result.smoothing.feature_points},

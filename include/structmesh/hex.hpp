@@ -121,6 +121,11 @@ struct HexSmoothingOptions {
   /// (each followed by up to 10 sweeps, at most 10 rounds). They cost up to 100 more
   /// sweeps, so they are kept for a worst hex a user would notice; 0: none.
   double polish_below = 0.4;
+  /// Before those ascents, while the worst hex is below polish_below, at most this many
+  /// rounds of fresh starts of the worst cluster: its points go back to where the smoothing
+  /// found them and are untangled and swept again, kept only if the worst hex rises (each
+  /// round tries 1 to 4 rings of points around the cluster; 0: none).
+  int restart_rounds = 4;
   /// Joint ascents of the mean scaled Jacobian end the smoothing (the worst hex held) while
   /// the mean is below this (0: none, 1: always). They cost about a tenth of the run: the
   /// default leaves a mesh alone whose mean already meets the published polycube results.
@@ -136,6 +141,8 @@ struct HexSmoothingResult {
   bool sweeps_held_back = false;  ///< by sweeps_only_if_untangled (a bulk tangle gets none anyway)
   int polish_rounds = 0;          ///< joint ascents of the worst hexes after the sweeps
   int mean_ascent_rounds = 0;     ///< joint ascents of the mean after them
+  int restarts = 0;               ///< fresh starts of the worst cluster kept
+  int restarts_tried = 0;         ///< fresh starts of the worst cluster tried
   double mean_scaled_jacobian_before_ascent = 0;
   std::size_t feature_points = 0;  ///< boundary points held on a sharp feature
   /// Boundary points of hexes the untangling could not fix on the surface, then let off it.

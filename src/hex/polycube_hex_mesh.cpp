@@ -380,6 +380,7 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
     if (compare) {
       unsmoothed = grid;
       smoothing.polish_below = 0;
+      smoothing.restart_rounds = 0;
       smoothing.mean_below = 0;
       smoothing.iterations = std::min(smoothing.iterations, kSweepsBeforeComparison);
     }

@@ -80,6 +80,12 @@ constexpr int kPolishRounds = 10, kPolishRings = 3, kSweepsAfterPolish = 10;
 constexpr double kPolishMargin = 0.05, kPolishMinimumGain = 1e-4;
 // Joint untangling frees the points within this many hex rings of the inverted hexes.
 constexpr int kRegionRings = 4;
+// Fresh starts (restart_worst below): the points within 1 to kRestartRings rings of the hexes
+// below max(kRestartBelow, worst + kPolishMargin) go back, and the sweeps after them move
+// only those and the points within kFocusRings more rings (unfocused, they were 100 sweeps of
+// the whole mesh: 10.7 s on the dog against 0.6 s), at most kRestartSweeps of them.
+constexpr int kRestartRings = 4, kFocusRings = 3, kRestartSweeps = 100;
+constexpr double kRestartBelow = 0.3;
 // The ascent of the mean (Smoother::raise_mean): the points of the hexes within
 // kMeanFrozenMargin of the worst stay put, every other hex stays kMeanFloorMargin above the
 // worst; kMeanIterations L-BFGS iterations per round, then up to kBoundaryMeanSweeps sweeps
@@ -320,6 +326,7 @@ class Smoother {
         std::size_t local = 0;
         for (std::size_t k = range.begin(); k != range.end(); ++k) {
           const Index v = colour[k];
+          if (!focus_.empty() && !focus_[v]) continue;
           if (!skip_settled) {
             local += smooth_point(v, scratch);
             continue;
@@ -519,6 +526,48 @@ class Smoother {
     }
     return true;
   }
+
+  // Where the points are, and which boundary points are released: what a fresh start of a
+  // cluster (reset_worst) puts back when it did not pay.
+  struct Snapshot {
+    std::vector<Vec3> points;
+    std::vector<std::uint8_t> released;
+    bool any_released = false;
+  };
+  Snapshot snapshot() const { return {mesh_.points, released_, any_released_}; }
+  void restore(const Snapshot& snapshot) {
+    released_ = snapshot.released;
+    any_released_ = snapshot.any_released;
+    restore_points(snapshot.points);
+  }
+
+  // The start of a fresh try at the worst cluster: the points within `rings` rings of the
+  // hexes below `below` go back to where the smoothing found them (the map's positions), to
+  // be untangled and smoothed again, now with smooth surroundings. Returns how many points
+  // went back.
+  std::size_t reset_worst(double below, int rings) {
+    std::vector<std::uint8_t> in_region(mesh_.points.size(), 0);
+    std::vector<Index> region;
+    for (std::size_t h = 0; h < mesh_.hexes.size(); ++h)
+      if (score_[h] < below)
+        for (const Index v : mesh_.hexes[h])
+          if (!in_region[v]) in_region[v] = 1, region.push_back(v);
+    if (region.empty()) return 0;
+    grow_region(region, in_region, rings);
+    const std::size_t reset_end = region.size();
+    grow_region(region, in_region, kFocusRings);
+    focus_ = std::move(in_region);
+    // The sweeps after it skip settled points: these are not.
+    if (moved_at_.empty()) moved_at_.assign(mesh_.points.size(), 0), tried_at_.assign(mesh_.points.size(), 0);
+    const std::uint32_t epoch = ++epoch_;
+    std::size_t reset = 0;
+    for (std::size_t k = 0; k < reset_end; ++k)
+      if (const Index v = region[k]; movable_[v]) mesh_.points[v] = origin_[v], moved_at_[v] = epoch, ++reset;
+    rescore_all();
+    return reset;
+  }
+  // Back to sweeps over the whole mesh.
+  void clear_focus() { focus_.clear(); }
 
   // Joint ascent of the mean (raise_mean_scaled_jacobian.cpp) over the interior points,
   // with every hex kept at least kMeanFloorMargin above the worst hex of the mesh. The
@@ -900,35 +949,17 @@ class Smoother {
   // Smoothing sweeps: the colour epoch at which each point last moved and was last tried.
   std::vector<std::uint32_t> moved_at_, tried_at_;
   std::uint32_t epoch_ = 0;
+  // If not empty, the only points the smoothing sweeps move (reset_worst's region and rings).
+  std::vector<std::uint8_t> focus_;
 };
 
 }  // namespace
 
-HexSmoothingResult smooth_hex_mesh(HexMesh& mesh, const std::function<Vec3(const Vec3&)>& project,
-                                   const HexSmoothingOptions& options) {
-  for (std::size_t h = 0; h < mesh.hexes.size(); ++h) {
-    std::array<Index, 8> sorted = mesh.hexes[h];
-    std::sort(sorted.begin(), sorted.end());
-    if (sorted.back() >= mesh.points.size())
-      throw InputError("smooth_hex_mesh: hex " + std::to_string(h) + " refers to point " +
-                       std::to_string(sorted.back()) + " of " + std::to_string(mesh.points.size()));
-    // A collapsed hex stays collapsed however its points move.
-    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
-      throw InputError("smooth_hex_mesh: hex " + std::to_string(h) + " uses a point twice");
-  }
-  if (options.move_boundary && !project)
-    throw InputError("smooth_hex_mesh: move_boundary needs a projection onto the surface");
-  HexSmoothingResult result;
-  if (mesh.hexes.empty()) return result;
-
-  Smoother smoother(mesh, project, options.move_boundary, options.feature_angle_degrees);
-  result.feature_points = smoother.feature_points();
-  const ScoreStatistics before = score_statistics(smoother.scores());
-  result.inverted_before = before.inverted;
-  result.min_scaled_jacobian_before = before.min;
-  result.mean_scaled_jacobian_before = before.mean();
-
-  ScoreStatistics current = before;
+// The untangling: rounds of one-point moves, attempts that release boundary points, then
+// joint untangling of what is left. Returns the scores' statistics after it; adds the
+// boundary points it let off the surface to `released`.
+ScoreStatistics untangle(Smoother& smoother, HexMesh& mesh, const HexSmoothingOptions& options, ScoreStatistics current,
+                         std::size_t& released) {
   // Untangling rounds on the surface first. Then, for stuck clusters (points whose hexes all
   // hold each other in place), the boundary points of the hexes still inverted are let go,
   // and from the second such attempt on a smoothing sweep moves the valid neighbours first.
@@ -936,7 +967,7 @@ HexSmoothingResult smooth_hex_mesh(HexMesh& mesh, const std::function<Vec3(const
     const std::size_t inverted_before_attempt = current.inverted;
     if (attempt > 0) {
       if (!options.move_boundary) break;
-      result.released_boundary_points += smoother.release_boundary_of_inverted();
+      released += smoother.release_boundary_of_inverted();
       if (attempt > 1) smoother.smoothing_sweep();
     }
     // The rounds lower each point's worst determinant, which can raise the count of
@@ -998,6 +1029,98 @@ HexSmoothingResult smooth_hex_mesh(HexMesh& mesh, const std::function<Vec3(const
              std::to_string(current.inverted) + " inverted hexes");
   }
 
+  return current;
+}
+
+// Joint ascents of the worst hexes (polish_worst), each followed by sweeps of the whole mesh,
+// while they raise the worst hex and it is below options.polish_below. Counts the rounds in
+// `rounds`; returns the scores' statistics after them.
+ScoreStatistics polish(Smoother& smoother, const HexSmoothingOptions& options, ScoreStatistics current, int& rounds) {
+  for (int round = 0; round < kPolishRounds && current.inverted == 0 && current.min < options.polish_below; ++round) {
+    if (!smoother.polish_worst(kPolishMargin, kPolishRings)) break;
+    for (int sweep = 0; sweep < kSweepsAfterPolish; ++sweep)
+      if (smoother.smoothing_sweep(true) == 0) break;
+    const double before = current.min;
+    current = score_statistics(smoother.scores());
+    ++rounds;
+    if (!(current.min > before + kPolishMinimumGain)) break;
+  }
+  return current;
+}
+
+// Fresh starts of the worst cluster (Smoother::reset_worst), while the worst hex is below
+// options.polish_below: its points go back to the map's positions and are untangled and swept
+// again, now amid smooth hexes, which takes them down another path; a try is kept only if it
+// raises the worst hex by kPolishMinimumGain. Why: the sweeps end in whichever local optimum
+// the untangling led a cluster to, and rounding differences alone change which one (the
+// closed dog at 10k hexes: worst hex 0.54 with OpenBLAS's AVX2 kernels, 0.14 with its AVX-512
+// ones; a fresh start took the 0.14 to 0.40 in 0.6 s). The rings around the cluster that go
+// back are tried from 1 to kRestartRings; the first try that pays is kept.
+ScoreStatistics restart_worst(Smoother& smoother, HexMesh& mesh, const HexSmoothingOptions& options,
+                              ScoreStatistics current, HexSmoothingResult& result) {
+  HexSmoothingOptions quiet = options;
+  quiet.progress = false;
+  for (int round = 0; round < options.restart_rounds && current.inverted == 0 && current.min < options.polish_below;
+       ++round) {
+    if (options.progress) status("hex smoothing: fresh start of the worst hexes, round " + std::to_string(round + 1));
+    bool kept = false;
+    for (int rings = 1; rings <= kRestartRings && !kept; ++rings) {
+      const Smoother::Snapshot saved = smoother.snapshot();
+      if (smoother.reset_worst(std::max(kRestartBelow, current.min + kPolishMargin), rings) == 0) {
+        smoother.clear_focus();
+        break;
+      }
+      ++result.restarts_tried;
+      std::size_t released = 0;
+      ScoreStatistics fresh = untangle(smoother, mesh, quiet, score_statistics(smoother.scores()), released);
+      if (fresh.inverted == 0) {
+        for (int sweep = 0; sweep < kRestartSweeps; ++sweep)
+          if (smoother.smoothing_sweep(true) == 0) break;
+        fresh = score_statistics(smoother.scores());
+      }
+      smoother.clear_focus();
+      kept = fresh.inverted == 0 && fresh.min > current.min + kPolishMinimumGain;
+      if (kept) {
+        current = fresh;
+        result.released_boundary_points += released;
+        ++result.restarts;
+      } else {
+        smoother.restore(saved);
+      }
+    }
+    if (!kept) break;
+  }
+  return current;
+}
+
+HexSmoothingResult smooth_hex_mesh(HexMesh& mesh, const std::function<Vec3(const Vec3&)>& project,
+                                   const HexSmoothingOptions& options) {
+  for (std::size_t h = 0; h < mesh.hexes.size(); ++h) {
+    std::array<Index, 8> sorted = mesh.hexes[h];
+    std::sort(sorted.begin(), sorted.end());
+    if (sorted.back() >= mesh.points.size())
+      throw InputError("smooth_hex_mesh: hex " + std::to_string(h) + " refers to point " +
+                       std::to_string(sorted.back()) + " of " + std::to_string(mesh.points.size()));
+    // A collapsed hex stays collapsed however its points move.
+    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
+      throw InputError("smooth_hex_mesh: hex " + std::to_string(h) + " uses a point twice");
+  }
+  if (options.move_boundary && !project)
+    throw InputError("smooth_hex_mesh: move_boundary needs a projection onto the surface");
+  HexSmoothingResult result;
+  if (mesh.hexes.empty()) return result;
+
+  Smoother smoother(mesh, project, options.move_boundary, options.feature_angle_degrees);
+  result.feature_points = smoother.feature_points();
+  const ScoreStatistics before = score_statistics(smoother.scores());
+  result.inverted_before = before.inverted;
+  result.min_scaled_jacobian_before = before.min;
+  result.mean_scaled_jacobian_before = before.mean();
+
+  std::size_t released = 0;
+  ScoreStatistics current = untangle(smoother, mesh, options, before, released);
+  result.released_boundary_points = released;
+
   // Nor smoothing for a mesh still tangled in bulk: the caller retries on another polycube.
   result.sweeps_held_back = current.inverted > 0 && current.inverted <= kBulkTangle && options.sweeps_only_if_untangled;
   const int sweeps = current.inverted > kBulkTangle || result.sweeps_held_back ? 0 : options.iterations;
@@ -1023,19 +1146,10 @@ HexSmoothingResult smooth_hex_mesh(HexMesh& mesh, const std::function<Vec3(const
     }
   }
   if (progress) progress->finish();
-  // Then joint ascents of the worst hexes (polish_worst), each followed by sweeps of the whole
-  // mesh, while they raise the worst hex.
-  for (int round = 0;
-       round < kPolishRounds && sweeps > 0 && current.inverted == 0 && current.min < options.polish_below; ++round) {
-    if (!smoother.polish_worst(kPolishMargin, kPolishRings)) break;
-    for (int sweep = 0; sweep < kSweepsAfterPolish; ++sweep)
-      if (smoother.smoothing_sweep(true) == 0) break;
-    const double before = current.min;
-    current = score_statistics(smoother.scores());
-    ++result.polish_rounds;
-    if (!(current.min > before + kPolishMinimumGain)) break;
+  if (sweeps > 0) {
+    current = restart_worst(smoother, mesh, options, current, result);
+    current = polish(smoother, options, current, result.polish_rounds);
   }
-
   // Last, the mean: joint ascents of the interior points, each followed by sweeps of the
   // boundary points, with the worst hex held, while the mean is below options.mean_below
   // (docs/design/hex.md: fertility at 18k hexes, mean 0.932 -> 0.942 in 1.5 s).

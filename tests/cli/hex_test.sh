@@ -33,7 +33,8 @@ grep -q 'Name="scaled_jacobian"' "$work/h.vtu" || fail "h.vtu has no scaled_jaco
 grep -q 'Name="u"' "$work/map.vtu" || fail "map.vtu has no u point data"
 [[ -s "$work/h.png" && -s "$work/p.obj" && -s "$work/h.msh" ]] || fail "missing picture, polycube or .msh"
 
-# --polish-below above the worst hex: joint ascents run, and the worst hex does not drop.
+# --polish-below above the worst hex: fresh starts of the worst cluster are tried and joint
+# ascents run, and the worst hex does not drop.
 "$sm" hex "$torus" --hexes 3000 --polish-below 0.95 -o "$work/polished.vtu" --json "$work/polished.json" --quiet ||
   fail "hex --polish-below 0.95 exited $?"
 python3 - "$work" <<'END' || fail "--polish-below"
@@ -42,12 +43,18 @@ work = sys.argv[1]
 plain, polished = (json.load(open(f"{work}/{name}.json")) for name in ("report", "polished"))
 assert polished["smoothing"]["polish_rounds"] >= 1, polished["smoothing"]
 assert plain["smoothing"]["polish_rounds"] == 0, plain["smoothing"]
+assert polished["smoothing"]["restarts_tried"] >= 1, polished["smoothing"]
+assert plain["smoothing"]["restarts_tried"] == 0, plain["smoothing"]
+assert polished["smoothing"]["restarts"] <= polished["smoothing"]["restarts_tried"], polished["smoothing"]
 assert polished["inverted"] == 0 and polished["scaled_jacobian"]["min"] >= plain["scaled_jacobian"]["min"], (
     plain["scaled_jacobian"], polished["scaled_jacobian"])
 END
 "$sm" hex "$torus" --hexes 100 --polish-below 2 -o "$work/bad.vtu" 2>/dev/null
 status=$?
 [[ $status -eq 2 ]] || fail "--polish-below 2: exit $status, expected 2"
+"$sm" hex "$torus" --hexes 100 --restarts -1 -o "$work/bad.vtu" 2>/dev/null
+status=$?
+[[ $status -eq 2 ]] || fail "--restarts -1: exit $status, expected 2"
 
 # --mean-below: 0 runs no ascent of the mean, 1 always does; it raises the mean and holds
 # the worst hex.

@@ -277,6 +277,52 @@ TEST(SmoothHexMesh, NoSweepsOnAMeshLeftTangledWhenAsked) {
   EXPECT_FALSE(untangled.sweeps_held_back);
 }
 
+// Fresh starts of the worst cluster (restart_rounds) on a grid whose boundary points are
+// displaced too and stay put, so that the best mesh is not a perfect one: they are tried
+// while the worst hex is below polish_below, a kept one leaves no hex inverted, and the
+// result is the same on one and two threads.
+TEST(SmoothHexMesh, FreshStartsOfTheWorstCluster) {
+  HexMesh start = perturbed_grid(6, 0.45, 8);
+  std::mt19937 random(108);
+  std::uniform_real_distribution<double> offset(-0.3, 0.3);
+  for (Vec3& p : start.points) p += Vec3(offset(random), offset(random), offset(random));
+  HexSmoothingOptions options;
+  options.move_boundary = false;
+  options.polish_below = 0.99;
+  options.mean_below = 0;
+  options.restart_rounds = 0;
+  HexMesh plain = start;
+  const HexSmoothingResult without = smooth_hex_mesh(plain, {}, options);
+  EXPECT_EQ(without.restarts_tried, 0);
+  options.restart_rounds = 4;
+  HexMesh one = start, two = start;
+  HexSmoothingResult result_one, result_two;
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    result_one = smooth_hex_mesh(one, {}, options);
+  }
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+    result_two = smooth_hex_mesh(two, {}, options);
+  }
+  EXPECT_GE(result_one.restarts, 1);
+  EXPECT_LE(result_one.restarts, result_one.restarts_tried);
+  EXPECT_EQ(result_one.inverted_after, 0u);
+  EXPECT_GE(result_one.min_scaled_jacobian_after, without.min_scaled_jacobian_after);
+  const HexQuality quality = hex_quality(one);
+  EXPECT_EQ(quality.inverted, 0u);
+  EXPECT_DOUBLE_EQ(quality.scaled_jacobian_stats.min, result_one.min_scaled_jacobian_after);
+  EXPECT_EQ(one.points, two.points);
+  EXPECT_EQ(result_one.restarts, result_two.restarts);
+  EXPECT_EQ(result_one.restarts_tried, result_two.restarts_tried);
+  // The fixed boundary stays where it was.
+  const std::vector<std::uint8_t> boundary = boundary_points(start);
+  for (std::size_t v = 0; v < start.points.size(); ++v)
+    if (boundary[v]) {
+      EXPECT_EQ(one.points[v], start.points[v]) << v;
+    }
+}
+
 TEST(SmoothHexMesh, RejectsBadInput) {
   HexMesh mesh = test::hex_grid(2, 1, 1);
   HexMesh past_the_end = mesh;
