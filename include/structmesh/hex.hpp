@@ -123,8 +123,9 @@ struct HexSmoothingOptions {
   double polish_below = 0.4;
   /// Before those ascents, while the worst hex is below polish_below, at most this many
   /// rounds of fresh starts of the worst cluster: its points go back to where the smoothing
-  /// found them and are untangled and swept again, kept only if the worst hex rises (each
-  /// round tries 1 to 4 rings of points around the cluster; 0: none).
+  /// found them (or on from there to their neighbours' centroids) and are untangled and
+  /// swept again, kept only if the worst hex rises (each round tries 1 to 4 rings of points
+  /// around the cluster, from either start; 0: none).
   int restart_rounds = 4;
   /// Joint ascents of the mean scaled Jacobian end the smoothing (the worst hex held) while
   /// the mean is below this (0: none, 1: always). They cost about a tenth of the run: the
