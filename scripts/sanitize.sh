@@ -33,7 +33,7 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 # PolycubeHexMesh.GenusThreeModelFromTheDataSet, the torus's by the BuildPolycube tests) and the
 # closed dog's thin ears (72 s; a part thinner than a voxel stays sanitized in
 # BuildPolycube.CoversAPlateThinnerThanAVoxel). And fertility's hex mesh at 16k hexes (over
-# 10 minutes sanitized beside another build, 31 s plain): the fresh starts of the worst cluster it exists for run
-# sanitized in SmoothHexMesh.FreshStartsOfTheWorstCluster.
+# 10 minutes sanitized beside another build, 31 s plain): the fresh starts of the worst
+# cluster it exists for run sanitized in SmoothHexMesh.FreshStartsOfTheWorstCluster.
 ctest --output-on-failure -j "$(nproc)" --timeout 900 \
   -E 'RealCoastline.*gulf_of_mexico_(8|16|ne10m_16)_parts|SamplePartition.EveryPartOfTheKeyIsEvenAtManySizes|ExactBisection.CvtGpFirstBisectionWithin15PercentOfExact|Paving.RandomPolygonsNeverFail|PolycubeHexMesh.ThinPartsFoldTheMergedMap.*|PolycubeHexMesh.FertilityAt16kHexesHasNoPoorHex|BuildPolycube.DataModelsOfGenusOneAndThree|BuildPolycube.ClosedDogWithEarsThinnerThanAVoxel'
