@@ -480,6 +480,19 @@ class Smoother {
     return false;
   }
 
+  // The points of the hexes whose score passes `keep`, each once; flagged in `in_region`
+  // (resized to the point count).
+  template <class Keep>
+  std::vector<Index> points_of_hexes(Keep keep, std::vector<std::uint8_t>& in_region) const {
+    in_region.assign(mesh_.points.size(), 0);
+    std::vector<Index> region;
+    for (std::size_t h = 0; h < mesh_.hexes.size(); ++h)
+      if (keep(score_[h]))
+        for (const Index v : mesh_.hexes[h])
+          if (!in_region[v]) in_region[v] = 1, region.push_back(v);
+    return region;
+  }
+
   // Adds to `region` (its points flagged in `in_region`) the points of their hexes, `rings`
   // times over.
   void grow_region(std::vector<Index>& region, std::vector<std::uint8_t>& in_region, int rings) const {
@@ -507,12 +520,8 @@ class Smoother {
   bool polish_worst(double margin, int rings) {
     const ScoreStatistics now = score_statistics(score_);
     if (now.inverted > 0 || !std::isfinite(now.min)) return false;
-    std::vector<std::uint8_t> in_region(mesh_.points.size(), 0);
-    std::vector<Index> region;
-    for (std::size_t h = 0; h < mesh_.hexes.size(); ++h)
-      if (score_[h] <= now.min + margin)
-        for (const Index v : mesh_.hexes[h])
-          if (!in_region[v]) in_region[v] = 1, region.push_back(v);
+    std::vector<std::uint8_t> in_region;
+    std::vector<Index> region = points_of_hexes([&](double score) { return score <= now.min + margin; }, in_region);
     grow_region(region, in_region, rings);
     std::vector<Index> free;
     for (const Index v : region)
@@ -550,12 +559,8 @@ class Smoother {
   // be untangled and smoothed again, now with smooth surroundings; with `centroids`, they
   // then move towards their neighbours' centroids. Returns how many points went back.
   std::size_t reset_worst(double below, int rings, bool centroids) {
-    std::vector<std::uint8_t> in_region(mesh_.points.size(), 0);
-    std::vector<Index> region;
-    for (std::size_t h = 0; h < mesh_.hexes.size(); ++h)
-      if (score_[h] < below)
-        for (const Index v : mesh_.hexes[h])
-          if (!in_region[v]) in_region[v] = 1, region.push_back(v);
+    std::vector<std::uint8_t> in_region;
+    std::vector<Index> region = points_of_hexes([&](double score) { return score < below; }, in_region);
     if (region.empty()) return 0;
     grow_region(region, in_region, rings);
     const std::size_t reset_end = region.size();
