@@ -236,6 +236,8 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
                    {"released_boundary_points", result.map.released_boundary_points},
                    {"extraction_retried_from_p", result.extraction_retried},
                    {"boundary_from_p_kept", result.boundary_from_p_kept},
+                   {"map_boundary_drift_voxels", result.map_boundary_drift},
+                   {"map_boundary_skipped", result.map_boundary_skipped},
                    {"seconds_frames", result.map.seconds_frames},
                    {"seconds_solve", result.map.seconds_solve},
                    {"seconds_untangle", result.map.seconds_untangle}}},

@@ -4,6 +4,7 @@
 //   bench_guard DATA_DIR               Table 2.1 (every surface)
 //   bench_guard DATA_DIR --table-2.2   Table 2.2 (skeleton against tet-vertex candidates)
 //   bench_guard DATA_DIR --only NAME... Table 2.1 for the named surfaces only
+#include "../surface_models.hpp"
 #include "structmesh/check.hpp"
 #include "structmesh/error.hpp"
 #include "structmesh/guard.hpp"
@@ -98,6 +99,7 @@ int table_2_2(const std::filesystem::path& data) {
 int main(int argc, char** argv) {
   const std::filesystem::path data = argc > 1 ? argv[1] : "../shared/data";
   if (argc > 2 && std::string(argv[2]) == "--table-2.2") return table_2_2(data);
+  bench::require_surfaces_folder(data);
   std::vector<std::filesystem::path> models;
   for (const auto& entry : std::filesystem::directory_iterator(data / "surfaces")) models.push_back(entry.path());
   std::sort(models.begin(), models.end());

@@ -248,8 +248,16 @@ struct HexResult {
   /// 0.1): the extraction was made again with the boundary on P ...
   bool extraction_retried = false;
   bool boundary_from_p_kept = false;  ///< ... and that mesh was better, so this is it
-  bool merging_retried = false;       ///< the first mesh had inverted hexes and was made again unmerged
-  bool unmerged_kept = false;         ///< ... and the unmerged one was better, so this is it
+  /// How far the farthest boundary point of the map ended from its target on the domain's
+  /// boundary (P's point nearest to Q's, or Q's with unmerged planes), in voxels: the map's
+  /// untangling released it ...
+  double map_boundary_drift = 0;
+  /// ... and it was so far off P (over 50 voxels) that the mesh was made from P first, and
+  /// that one was sound (no inverted hex, worst at least 0.3, D_g at most 0.1), so the mesh
+  /// from the map's boundary was not made.
+  bool map_boundary_skipped = false;
+  bool merging_retried = false;  ///< the first mesh had inverted hexes and was made again unmerged
+  bool unmerged_kept = false;    ///< ... and the unmerged one was better, so this is it
   /// The surface map onto the merged-plane polycube kept more than 2% of Q's triangles
   /// folded after its relaxation, so the first attempt stopped there and the mesh was made
   /// on the unmerged polycube (merging_retried and unmerged_kept are set too).

@@ -52,6 +52,13 @@ constexpr double kLostPartDeviation = 0.1;
 // The extraction is also made again from P when the first one's worst hex is below this
 // (the target for the worst scaled Jacobian).
 constexpr double kRetryBelowQuality = 0.3;
+// A released boundary point of the map this many voxels off P makes the mesh from the map's
+// boundary unlikely to win: the mesh from P is made first, and if it is sound the other is
+// not made. On the benchmark models (AVX2 kernels) the map's boundary gave the kept mesh up to
+// 34 voxels off P (the kitten; the rocker arm 20, the screwdriver 17, the hand 8), and lost
+// from 91 on (fertility 91, the bunny and kitten_40k 216 and 217): making it first cost the
+// bunny 5.6 s (it stayed tangled).
+constexpr double kHopelessDriftVoxels = 50;
 
 // The merged-plane attempt stops after the surface map when more than this share of Q's
 // triangles stays folded on P after the relaxation: a folded boundary triangle pins inverted
@@ -395,6 +402,12 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
     timer.stop("quality" + suffix);
     return unsmoothed;
   };
+  // How far the map's untangling took released boundary points from their targets on the
+  // domain's boundary (Q's points, or P's nearest to them), in voxels.
+  const std::vector<Vec3>& boundary_targets = map_onto_p ? on_p.points : polycube.pseudo.surface.points;
+  for (std::size_t i = 0; i < boundary_targets.size(); ++i)
+    result.map_boundary_drift =
+        std::max(result.map_boundary_drift, (result.parameter[i] - boundary_targets[i]).norm() / voxel);
   if (!map_onto_p) {
     extract(polycube.pseudo.surface, "", false, false);
     return result;
@@ -410,16 +423,43 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
   TriMesh map_boundary = on_p;
   std::copy_n(result.parameter.begin(), map_boundary.points.size(), map_boundary.points.begin());
   const bool retry_possible = result.map.released_boundary_points > 0;
+  const auto sound = [&] {
+    return bad_hexes(result.quality) == 0 && result.geometric_deviation <= kLostPartDeviation &&
+           result.quality.scaled_jacobian_stats.min >= kRetryBelowQuality;
+  };
+  // A released point far off P: the mesh from P first, and if it is sound, the one from the
+  // map's boundary is not made. Otherwise that one is made too, in full, and the better kept
+  // (with OpenBLAS's AVX-512 kernels, fertility's mesh from P kept inverted hexes where the
+  // one from the map's boundary had a worst hex of 0.41).
+  if (retry_possible && result.map_boundary_drift > kHopelessDriftVoxels) {
+    extract(on_p, " (boundary on P)", false, false);
+    result.extraction_retried = true;
+    result.boundary_from_p_kept = true;
+    if (sound()) {
+      result.map_boundary_skipped = true;
+      return result;
+    }
+    HexMesh from_p = std::move(result.mesh);
+    const HexSmoothingResult from_p_smoothing = result.smoothing;
+    const HexQuality from_p_quality = result.quality;
+    const double from_p_deviation = result.geometric_deviation;
+    extract(map_boundary, "", false, false);
+    result.boundary_from_p_kept =
+        better_mesh(from_p_quality, from_p_deviation, result.quality, result.geometric_deviation);
+    if (result.boundary_from_p_kept) {
+      result.mesh = std::move(from_p);
+      result.smoothing = from_p_smoothing;
+      result.quality = from_p_quality;
+      result.geometric_deviation = from_p_deviation;
+    }
+    return result;
+  }
   // Where a retry is possible, a first mesh that stays tangled after the untangling gets no
   // smoothing sweeps: it loses to any untangled retry. Otherwise both meshes get
   // kSweepsBeforeComparison sweeps, are compared so, and the kept one is smoothed in full
   // (finish_smoothing).
   HexMesh first_unsmoothed = extract(map_boundary, "", retry_possible, retry_possible);
   if (!retry_possible) return result;
-  const auto sound = [&] {
-    return bad_hexes(result.quality) == 0 && result.geometric_deviation <= kLostPartDeviation &&
-           result.quality.scaled_jacobian_stats.min >= kRetryBelowQuality;
-  };
   // Sound after the comparison's sweeps is not sound after all of them: released points
   // drift off the input over many sweeps (the closed dog at 10k hexes: worst hex 0.14, D_g
   // 0.22 after them). So the first mesh is judged again, fully smoothed, before it is kept.

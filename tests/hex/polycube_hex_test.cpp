@@ -150,6 +150,17 @@ TEST(PolycubeHexMesh, FertilityAt16kHexesHasNoPoorHex) {
   EXPECT_TRUE(build_faces(result.mesh).extra_cells.empty());
   EXPECT_GT(result.quality.scaled_jacobian_stats.min, 0.3);
   EXPECT_GT(result.quality.scaled_jacobian_stats.mean, 0.93);
+  // The map's untangling released boundary points of fertility, so its boundary left the
+  // domain's; on the merged-plane polycube, past 50 voxels off P the mesh from P is made
+  // first, and the one from the map's boundary only if that is not sound.
+  EXPECT_GT(result.map.released_boundary_points, 0u);
+  EXPECT_GT(result.map_boundary_drift, 0);
+  if (!result.unmerged_kept && result.map_boundary_drift > 50) {
+    EXPECT_TRUE(result.extraction_retried);
+  }
+  if (result.map_boundary_skipped) {
+    EXPECT_TRUE(!result.unmerged_kept && result.map_boundary_drift > 50 && result.boundary_from_p_kept);
+  }
 }
 
 TEST(PolycubeHexMesh, BadInput) {
