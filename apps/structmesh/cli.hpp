@@ -64,4 +64,9 @@ void write_json_report(const GlobalOptions& global, const nlohmann::json& report
 /// stdout line unless --quiet.
 void say(const GlobalOptions& global, const std::string& text);
 
+/// --repair of a closed surface (guard, hex): every hole closed (fill_holes()), then every
+/// face turned if the signed volume is negative; says what changed and returns the report's
+/// "repaired" object. InputError naming `input` when a hole cannot be closed.
+nlohmann::json repair_surface(TriMesh& surface, const std::string& input, const GlobalOptions& global);
+
 }  // namespace structmesh::cli

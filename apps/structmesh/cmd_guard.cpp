@@ -95,21 +95,8 @@ Action add_guard_command(CLI::App& command, const GlobalOptions& global) {
     }
     nlohmann::json repaired = nullptr;
     if (settings->repair) {
-      HoleFilling filled;
-      try {
-        filled = fill_holes(surface);
-      } catch (const InputError& e) {
-        throw InputError(settings->input + ": --repair: " + e.what());
-      }
-      surface = std::move(filled.surface);
-      const bool flip = enclosed_volume(surface) < 0;
-      if (flip)
-        for (auto& t : surface.triangles) std::swap(t[1], t[2]);
+      repaired = repair_surface(surface, settings->input, global);
       options.allow_self_intersections = true;
-      repaired = {{"holes_filled", filled.holes}, {"faces_added", filled.added_faces}, {"flipped", flip}};
-      if (filled.holes > 0 || flip)
-        say(global, "--repair: " + std::to_string(filled.holes) + " holes closed with " +
-                        std::to_string(filled.added_faces) + " faces" + (flip ? "; surface turned outward" : ""));
     }
     options.method = settings->method == "greedy" ? GuardMethod::Greedy
                      : settings->method == "pilp" ? GuardMethod::Pilp

@@ -51,7 +51,7 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
     std::vector<std::string> outputs;
     std::vector<double> view;
     HexOptions options;
-    bool no_padding = false, no_align = false;
+    bool no_padding = false, no_align = false, repair = false;
   };
   auto settings = std::make_shared<Settings>();
   command
@@ -131,6 +131,9 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
                    "more than 30 degrees stay put in the smoothing");
   command.add_flag("--no-padding", settings->no_padding, "No pillow layer under the boundary");
   command.add_flag("--no-align", settings->no_align, "Skip the principal-axes pre-alignment");
+  command.add_flag("--repair", settings->repair,
+                   "Close the surface's holes (CGAL's minimum-area hole filling) and turn it outward if its normals "
+                   "point inward; self-intersections stay an error");
 
   return [&global, settings]() {
     for (const std::string& output : settings->outputs) {
@@ -149,6 +152,7 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
         throw InputError(settings->input + ": hex needs a triangle surface or a tet mesh");
       surface = TriMesh{bundle.points, bundle.triangles};
     }
+    const nlohmann::json repaired = settings->repair ? repair_surface(surface, settings->input, global) : nullptr;
     HexOptions options = settings->options;
     options.padding = !settings->no_padding;
     options.polycube.align = !settings->no_align;
@@ -196,6 +200,7 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
     write_json_report(
         global, {{"input", settings->input},
                  {"vertices", surface.points.size()},
+                 {"repaired", repaired},
                  {"hexes", result.mesh.hexes.size()},
                  {"points", result.mesh.points.size()},
                  {"hex_size", result.hex_size},

@@ -128,13 +128,10 @@ int main(int argc, char** argv) {
       // closed, an inward surface turned, self-intersections guarded across.
       std::string repaired;
       if (!check_surface(to_bundle(surface)).valid_solid_boundary) {
-        const HoleFilling filled = fill_holes(surface);
-        surface = filled.surface;
-        const bool flip = enclosed_volume(surface) < 0;
-        if (flip)
-          for (auto& t : surface.triangles) std::swap(t[1], t[2]);
+        const SurfaceRepair repair = repair_solid_surface(surface);
         options.allow_self_intersections = true;
-        repaired = " (repaired: " + std::to_string(filled.holes) + " holes closed" + (flip ? ", turned outward" : "");
+        repaired =
+            " (repaired: " + std::to_string(repair.holes) + " holes closed" + (repair.turned ? ", turned outward" : "");
       }
       const auto start = std::chrono::steady_clock::now();
       const GuardResult r = guard_surface(surface, options);

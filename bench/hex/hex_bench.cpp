@@ -7,6 +7,7 @@
 #include "structmesh/error.hpp"
 #include "structmesh/hex.hpp"
 #include "structmesh/io.hpp"
+#include "structmesh/tetmesh.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -65,13 +66,32 @@ int main(int argc, char** argv) {
     const std::size_t target = row == dissertation().end() ? 10000 : row->second.hexes;
     const char* anchor = row == dissertation().end() ? "-" : row->second.row;
     try {
-      const TriMesh surface = to_tri_mesh(read_mesh(path));
+      TriMesh surface = to_tri_mesh(read_mesh(path));
+      // What `structmesh hex --repair` does for a surface that does not bound a solid: holes
+      // closed, an inward surface turned; a self-intersecting one stays skipped.
+      std::string label = name;
       if (!check_surface(to_bundle(surface)).valid_solid_boundary) {
-        std::printf(
-            "| %s | %zu | not a solid boundary (open, self-intersecting or inward): skipped ||||||||||||||| %s |\n",
-            name.c_str(), surface.points.size(), anchor);
-        std::fflush(stdout);
-        continue;
+        const SurfaceRepair repair = repair_solid_surface(surface);
+        const std::string what =
+            std::to_string(repair.holes) + " holes closed" + (repair.turned ? ", turned outward" : "");
+        const SurfaceReport after = check_surface(to_bundle(surface));
+        if (!after.valid_solid_boundary) {
+          std::string why;
+          const auto add = [&](std::size_t count, const char* what) {
+            if (count > 0) why += (why.empty() ? "" : ", ") + std::to_string(count) + " " + what;
+          };
+          add(after.self_intersections, "crossing face pairs");
+          add(after.adjacent_overlaps, "overlapping neighbours");
+          add(after.non_manifold_edges, "non-manifold edges");
+          add(after.non_manifold_vertices, "non-manifold vertices");
+          add(after.boundary_edges, "boundary edges");
+          add(after.degenerate_faces, "degenerate faces");
+          std::printf("| %s | %zu | not a solid boundary, also after --repair (%s): %s; skipped ||||||||||||||| %s |\n",
+                      name.c_str(), surface.points.size(), what.c_str(), why.c_str(), anchor);
+          std::fflush(stdout);
+          continue;
+        }
+        label += " (--repair: " + what + ")";
       }
       HexOptions options;
       options.target_hexes = target;
@@ -97,7 +117,7 @@ int main(int argc, char** argv) {
           "| %s | %zu | %zu | %zu | %.3f / %.3f | %.3f | %zu | %.2f / %.2f | %s | %zu → %zu | %.3f | %zu | %s | %.1f | "
           "%.1f | "
           "%.1f | %.1f | %s |\n",
-          name.c_str(), surface.points.size(), target, r.mesh.hexes.size(), q.scaled_jacobian_stats.min,
+          label.c_str(), surface.points.size(), target, r.mesh.hexes.size(), q.scaled_jacobian_stats.min,
           q.scaled_jacobian_stats.mean, q.corner_scaled_jacobian_stats.min, q.inverted + q.invalid,
           q.dihedral_degrees.mean, q.dihedral_degrees.stddev, volume_distortion.c_str(), r.surface_map.folded_before,
           r.surface_map.folded_after, 1e3 * r.geometric_deviation, q.singular_vertices, corners.c_str(),

@@ -43,4 +43,15 @@ double mean_edge_length(const TriMesh& surface);
 /// Signed volume enclosed by a triangle surface (> 0 when its normals point outward).
 double enclosed_volume(const TriMesh& surface);
 
+/// What repair_solid_surface() changed.
+struct SurfaceRepair {
+  std::size_t holes = 0, added_faces = 0;  ///< holes closed, triangles added to close them
+  bool turned = false;                     ///< every face turned: the normals pointed inward
+};
+
+/// The `--repair` of guard and hex: every hole closed (fill_holes(), CGAL's minimum-area
+/// hole triangulation), then every face turned if the enclosed volume is negative.
+/// Self-intersections are left as they are. InputError when a hole cannot be closed.
+SurfaceRepair repair_solid_surface(TriMesh& surface);
+
 }  // namespace structmesh

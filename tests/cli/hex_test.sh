@@ -81,6 +81,32 @@ status=$?
 
 # Bad input: an open surface and an unsupported output exit 2.
 expect_bad_input_rejected hex vtu
+# --repair: the torus with one face removed and every face turned inward is refused without
+# it (exit 2) and meshed with it, its hole closed and its surface turned outward.
+python3 - "$torus" "$work/holed.obj" <<'END' || fail "making holed.obj"
+import sys
+lines = open(sys.argv[1]).read().splitlines()
+faces = [i for i, l in enumerate(lines) if l.startswith("f ")]
+del lines[faces[0]]
+out = []
+for l in lines:
+    if l.startswith("f "):
+        parts = l.split()
+        l = " ".join([parts[0]] + parts[1:][::-1])
+    out.append(l)
+open(sys.argv[2], "w").write("\n".join(out) + "\n")
+END
+"$sm" hex "$work/holed.obj" --hexes 1000 -o "$work/holed.vtu" 2>/dev/null
+status=$?
+[[ $status -eq 2 ]] || fail "hex of a holed, inward surface: exit $status, expected 2"
+"$sm" hex "$work/holed.obj" --hexes 1000 --repair -o "$work/holed.vtu" --json "$work/holed.json" --quiet ||
+  fail "hex --repair exited $?"
+python3 - "$work" <<'END' || fail "hex --repair report"
+import json, sys
+r = json.load(open(f"{sys.argv[1]}/holed.json"))
+assert r["repaired"] == {"holes_filled": 1, "faces_added": 1, "flipped": True}, r["repaired"]
+assert r["inverted"] == 0 and r["scaled_jacobian"]["min"] > 0, r["scaled_jacobian"]
+END
 "$sm" hex "$torus" --hexes 100 --size 0.1 -o "$work/both.vtu" 2>/dev/null
 status=$?
 [[ $status -eq 2 ]] || fail "--hexes with --size: exit $status, expected 2"

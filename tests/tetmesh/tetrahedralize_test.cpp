@@ -236,5 +236,27 @@ TEST(Tetrahedralize, TorusModelFromData) {
   EXPECT_GT(result.mesh.tets.size(), surface.triangles.size());
 }
 
+// repair_solid_surface() (the --repair of guard and hex): an open, inward cube comes out
+// closed and outward, and then tetrahedralizes; a self-intersecting surface stays so.
+TEST(RepairSolidSurface, ClosesHolesAndTurnsAnInwardSurface) {
+  TriMesh cube = unit_cube();
+  cube.triangles.pop_back();
+  for (auto& t : cube.triangles) std::swap(t[1], t[2]);
+  const std::size_t kept = cube.triangles.size();
+  const SurfaceRepair repair = repair_solid_surface(cube);
+  EXPECT_EQ(repair.holes, 1u);
+  EXPECT_EQ(repair.added_faces, 1u);
+  EXPECT_TRUE(repair.turned);
+  EXPECT_EQ(cube.triangles.size(), kept + 1);
+  EXPECT_NEAR(enclosed_volume(cube), 1.0, 1e-12);
+  expect_valid(cube, tetrahedralize(cube), 1e-9);
+  // Nothing to do on a sound surface.
+  TriMesh sound = unit_cube();
+  const SurfaceRepair none = repair_solid_surface(sound);
+  EXPECT_EQ(none.holes, 0u);
+  EXPECT_FALSE(none.turned);
+  EXPECT_EQ(sound.triangles, unit_cube().triangles);
+}
+
 }  // namespace
 }  // namespace structmesh
