@@ -77,8 +77,8 @@ int main(int argc, char** argv) {
         const SurfaceReport after = check_surface(to_bundle(surface));
         if (!after.valid_solid_boundary) {
           std::string why;
-          const auto add = [&](std::size_t count, const char* what) {
-            if (count > 0) why += (why.empty() ? "" : ", ") + std::to_string(count) + " " + what;
+          const auto add = [&](std::size_t count, const char* kind) {
+            if (count > 0) why += (why.empty() ? "" : ", ") + std::to_string(count) + " " + kind;
           };
           add(after.self_intersections, "crossing face pairs");
           add(after.adjacent_overlaps, "overlapping neighbours");

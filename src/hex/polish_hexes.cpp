@@ -12,6 +12,7 @@
 // the samples near the worst). The shape energy of the joint untangling (untangle_hexes)
 // is no substitute: on that cluster it took the worst hex from 0.28 to 0.08.
 #include "hex/untangle_hexes.hpp"
+#include "mesh/lbfgs_parameters.hpp"
 #include "structmesh/quality.hpp"
 
 #include <LBFGS.h>
@@ -125,13 +126,7 @@ HexPolishResult polish_hexes(std::vector<Vec3>& points, std::span<const std::arr
   result.worst_before = energy.worst(x);
   result.worst_after = result.worst_before;
   if (!std::isfinite(result.worst_before)) return result;
-  LBFGSpp::LBFGSParam<double> param;  // must outlive the solver (held by reference)
-  param.m = 8;
-  param.epsilon = 1e-10;
-  param.epsilon_rel = 0;
-  param.max_iterations = max_iterations;
-  param.linesearch = LBFGSpp::LBFGS_LINESEARCH_BACKTRACKING_ARMIJO;
-  param.max_linesearch = 40;
+  const LBFGSpp::LBFGSParam<double> param = detail::lbfgs_parameters(1e-10, max_iterations, false);
   LBFGSpp::LBFGSSolver<double, LBFGSpp::LineSearchBacktracking> solver(param);
   const Eigen::VectorXd start = x;
   double value = 0;

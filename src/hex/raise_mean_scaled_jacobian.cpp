@@ -17,6 +17,7 @@
 // it. Without the barrier a single hex close to its floor cut every step short (the line
 // search is global): fertility gained 0.001 instead of 0.009.
 #include "hex/untangle_hexes.hpp"
+#include "mesh/lbfgs_parameters.hpp"
 
 #include <LBFGS.h>
 #include <tbb/blocked_range.h>
@@ -204,13 +205,7 @@ HexMeanAscentResult raise_mean_scaled_jacobian(std::vector<Vec3>& points, std::s
   result.score_sum_before = energy.score_sum(x);
   result.score_sum_after = result.score_sum_before;
   if (!std::isfinite(result.score_sum_before)) return result;
-  LBFGSpp::LBFGSParam<double> param;  // must outlive the solver (held by reference)
-  param.m = 8;
-  param.epsilon = 1e-8;
-  param.epsilon_rel = 0;
-  param.max_iterations = max_iterations;
-  param.linesearch = LBFGSpp::LBFGS_LINESEARCH_BACKTRACKING_ARMIJO;
-  param.max_linesearch = 40;
+  const LBFGSpp::LBFGSParam<double> param = detail::lbfgs_parameters(1e-8, max_iterations, false);
   // The line search gives up (LBFGSpp throws) where the soft minima bend sharply, long
   // before the gains end: L-BFGS starts again from the best point, with its memory cleared,
   // while that gains.

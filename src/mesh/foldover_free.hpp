@@ -7,6 +7,8 @@
 // Header-only: the two modules link no common library that has LBFGS++ on its include path.
 #pragma once
 
+#include "mesh/lbfgs_parameters.hpp"
+
 #include <LBFGS.h>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -77,16 +79,9 @@ FoldoverFreeResult minimize_foldover_free(Eigen::VectorXd& x, double& eps, Energ
   eps = std::sqrt(1e-12 + 0.04 * std::pow(std::min(detmin, 0.0), 2));
   Eigen::VectorXd best = x;
   double best_detmin = detmin;
-  LBFGSpp::LBFGSParam<double> param;  // must outlive the solver (held by reference)
-  param.m = 8;
-  param.epsilon = 1e-8;
-  param.epsilon_rel = 0;
+  LBFGSpp::LBFGSParam<double> param = lbfgs_parameters(1e-8, settings.max_iterations, settings.wolfe);
   param.past = 2;
   param.delta = 1e-7;
-  param.max_iterations = settings.max_iterations;
-  param.linesearch =
-      settings.wolfe ? LBFGSpp::LBFGS_LINESEARCH_BACKTRACKING_WOLFE : LBFGSpp::LBFGS_LINESEARCH_BACKTRACKING_ARMIJO;
-  param.max_linesearch = 40;
   LBFGSpp::LBFGSSolver<double, LBFGSpp::LineSearchBacktracking> solver(param);
   Eigen::VectorXd gradient(x.size());
   for (int outer = 0; outer < settings.max_steps; ++outer) {

@@ -1,5 +1,6 @@
 // L_p-CVT energy (3.12), its exact gradient (design/partition2d.md §1.7, §2.3), the
 // initial grid of sites and the L-BFGS optimisation (§2.5). Frame `axes` (R = I).
+#include "mesh/lbfgs_parameters.hpp"
 #include "partition2d/restricted_voronoi_impl.hpp"
 
 #include "structmesh/error.hpp"
@@ -261,15 +262,10 @@ LpCvtResult optimise_lp_cvt(const DomainMesh& domain, std::vector<Vec2> sites, c
   Eigen::VectorXd initial_gradient(2 * n);
   result.energy_initial = energy(x, initial_gradient);
 
-  LBFGSpp::LBFGSParam<double> param;  // must outlive the solver (held by reference)
-  param.m = 8;
-  param.epsilon = options.gradient_tolerance;
-  param.epsilon_rel = 0;  // the relative test uses ||x||, which depends on the translation
+  LBFGSpp::LBFGSParam<double> param =
+      detail::lbfgs_parameters(options.gradient_tolerance, options.max_iterations, true);
   param.past = 3;
   param.delta = 1e-8;
-  param.max_iterations = options.max_iterations;
-  param.linesearch = LBFGSpp::LBFGS_LINESEARCH_BACKTRACKING_WOLFE;
-  param.max_linesearch = 40;
   LBFGSpp::LBFGSSolver<double, LBFGSpp::LineSearchBacktracking> solver(param);
   double fx = 0;
   // The solver's first evaluation is the starting point, already evaluated above.
