@@ -244,8 +244,9 @@ struct HexResult {
   HexQuality quality;
   double geometric_deviation = 0;  ///< D_g: Hausdorff(hex boundary, input) / input diagonal
   /// The map's untangling released boundary points, and the mesh made with the grid's
-  /// boundary on the map's boundary kept an inverted hex or lost a part of the model (D_g >
-  /// 0.1): the extraction was made again with the boundary on P ...
+  /// boundary on the map's boundary kept an inverted hex, lost a part of the model (D_g >
+  /// 0.1) or had a worst hex below 0.3, or those points ended over 50 voxels off P: the
+  /// extraction was made (also, or first) with the boundary on P ...
   bool extraction_retried = false;
   bool boundary_from_p_kept = false;  ///< ... and that mesh was better, so this is it
   /// How far the farthest boundary point of the map ended from its target on the domain's
