@@ -80,6 +80,28 @@ bool better_mesh(const HexQuality& quality, double deviation, const HexQuality& 
   return rank(quality, deviation) < rank(other_quality, other_deviation);
 }
 
+// What one extraction leaves in a HexResult, set aside while another is made.
+struct Extraction {
+  HexMesh mesh;
+  HexSmoothingResult smoothing;
+  HexQuality quality;
+  double deviation = 0;
+
+  static Extraction take(HexResult& result) {
+    return {std::move(result.mesh), result.smoothing, result.quality, result.geometric_deviation};
+  }
+  // Whether this one beats the one now in `result`.
+  bool better_than(const HexResult& result) const {
+    return better_mesh(quality, deviation, result.quality, result.geometric_deviation);
+  }
+  void put_back(HexResult& result) && {
+    result.mesh = std::move(mesh);
+    result.smoothing = smoothing;
+    result.quality = quality;
+    result.geometric_deviation = deviation;
+  }
+};
+
 class StageTimer {
  public:
   explicit StageTimer(std::vector<std::pair<std::string, double>>& stages) : stages_(stages) {}
@@ -439,19 +461,10 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
       result.map_boundary_skipped = true;
       return result;
     }
-    HexMesh from_p = std::move(result.mesh);
-    const HexSmoothingResult from_p_smoothing = result.smoothing;
-    const HexQuality from_p_quality = result.quality;
-    const double from_p_deviation = result.geometric_deviation;
+    Extraction from_p = Extraction::take(result);
     extract(map_boundary, "", false, false);
-    result.boundary_from_p_kept =
-        better_mesh(from_p_quality, from_p_deviation, result.quality, result.geometric_deviation);
-    if (result.boundary_from_p_kept) {
-      result.mesh = std::move(from_p);
-      result.smoothing = from_p_smoothing;
-      result.quality = from_p_quality;
-      result.geometric_deviation = from_p_deviation;
-    }
+    result.boundary_from_p_kept = from_p.better_than(result);
+    if (result.boundary_from_p_kept) std::move(from_p).put_back(result);
     return result;
   }
   // Where a retry is possible, a first mesh that stays tangled after the untangling gets no
@@ -470,22 +483,16 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
     first_finished = true;
   }
   const bool first_unswept = result.smoothing.sweeps_held_back;
-  HexMesh first_mesh = first_finished ? std::move(result.mesh) : HexMesh{};
-  const HexSmoothingResult first_smoothing = result.smoothing;
-  const HexQuality first_quality = result.quality;
-  const double first_deviation = result.geometric_deviation;
+  Extraction first = Extraction::take(result);
   // A first mesh still tangled loses to any untangled second one (better_mesh ranks bad
   // hexes first), so then the second is smoothed in full at once.
   HexMesh second_unsmoothed = extract(on_p, " (boundary on P)", false, !first_unswept);
   result.extraction_retried = true;
-  const bool second_better = better_mesh(result.quality, result.geometric_deviation, first_quality, first_deviation);
+  const bool second_better = better_mesh(result.quality, result.geometric_deviation, first.quality, first.deviation);
   if (second_better) {
     if (!first_unswept) finish_smoothing(surface, onto_input, options, std::move(second_unsmoothed), result);
   } else if (first_finished) {
-    result.mesh = std::move(first_mesh);
-    result.smoothing = first_smoothing;
-    result.quality = first_quality;
-    result.geometric_deviation = first_deviation;
+    std::move(first).put_back(result);
   } else if (first_unswept) {
     extract(map_boundary, " (boundary from the map, smoothed)", false, false);
   } else {
