@@ -76,18 +76,9 @@ int main(int argc, char** argv) {
             std::to_string(repair.holes) + " holes closed" + (repair.turned ? ", turned outward" : "");
         const SurfaceReport after = check_surface(to_bundle(surface));
         if (!after.valid_solid_boundary) {
-          std::string why;
-          const auto add = [&](std::size_t count, const char* kind) {
-            if (count > 0) why += (why.empty() ? "" : ", ") + std::to_string(count) + " " + kind;
-          };
-          add(after.self_intersections, "crossing face pairs");
-          add(after.adjacent_overlaps, "overlapping neighbours");
-          add(after.non_manifold_edges, "non-manifold edges");
-          add(after.non_manifold_vertices, "non-manifold vertices");
-          add(after.boundary_edges, "boundary edges");
-          add(after.degenerate_faces, "degenerate faces");
-          std::printf("| %s | %zu | not a solid boundary, also after --repair (%s): %s; skipped ||||||||||||||| %s |\n",
-                      name.c_str(), surface.points.size(), what.c_str(), why.c_str(), anchor);
+          std::printf("| %s | %zu | not a solid boundary, also after --repair (%s):%s; skipped ||||||||||||||| %s |\n",
+                      name.c_str(), surface.points.size(), what.c_str(), solid_boundary_problems(after).c_str(),
+                      anchor);
           std::fflush(stdout);
           continue;
         }

@@ -52,6 +52,11 @@ struct CheckOptions {
 
 SurfaceReport check_surface(const MeshBundle& mesh, const CheckOptions& options = {});
 
+/// Why a surface the report rejects does not bound a solid, for an error message: each kind
+/// of problem with its count (" open (3 boundary edges); self-intersecting (2 face pairs);"),
+/// then the first problem found. Empty for a valid solid boundary.
+std::string solid_boundary_problems(const SurfaceReport& report);
+
 /// A surface with its holes closed (fill_holes()).
 struct HoleFilling {
   TriMesh surface;  ///< the input's points and triangles first, unchanged; new ones after them

@@ -43,19 +43,7 @@ std::size_t check_guardable(const TriMesh& surface, bool allow_self_intersection
   if (allow_self_intersections && report.closed && report.non_manifold_edges + report.non_manifold_vertices == 0 &&
       report.oriented && report.signed_volume > 0 && report.degenerate_faces == 0)
     return crossings;
-  std::string what;
-  if (!report.closed) what += " open (" + std::to_string(report.boundary_edges) + " boundary edges);";
-  if (report.non_manifold_edges + report.non_manifold_vertices > 0)
-    what += " non-manifold (" + std::to_string(report.non_manifold_edges) + " edges, " +
-            std::to_string(report.non_manifold_vertices) + " vertices);";
-  if (report.self_intersections + report.adjacent_overlaps > 0)
-    what +=
-        " self-intersecting (" + std::to_string(report.self_intersections + report.adjacent_overlaps) + " face pairs);";
-  if (!report.oriented) what += " inconsistently oriented;";
-  if (report.closed && report.oriented && report.signed_volume < 0) what += " oriented inward (negative volume);";
-  if (report.degenerate_faces > 0) what += " " + std::to_string(report.degenerate_faces) + " degenerate faces;";
-  if (!report.problems.empty()) what += " first problem: " + report.problems.front().message;
-  throw InputError("guard: the surface does not bound a solid:" + what +
+  throw InputError("guard: the surface does not bound a solid:" + solid_boundary_problems(report) +
                    " (structmesh guard --repair closes holes, turns an inward surface and guards across "
                    "self-intersections)");
 }

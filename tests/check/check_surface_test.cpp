@@ -131,6 +131,20 @@ TEST(CheckSurface, MissingFaceLeavesThreeBoundaryEdges) {
   EXPECT_EQ(count_kind(r, "open-edge"), 3u);
 }
 
+TEST(CheckSurface, SolidBoundaryProblemsNameEachKindAndTheFirstProblem) {
+  EXPECT_EQ(solid_boundary_problems(check_surface(tetra_surface())), "");
+  MeshBundle open = tetra_surface();
+  open.triangles.pop_back();
+  const SurfaceReport r = check_surface(open);
+  const std::string what = solid_boundary_problems(r);
+  EXPECT_EQ(what.rfind(" open (3 boundary edges); first problem: ", 0), 0u) << what;
+  EXPECT_NE(what.find(r.problems.front().message), std::string::npos) << what;
+  MeshBundle inward = tetra_surface();
+  for (auto& t : inward.triangles) std::swap(t[1], t[2]);
+  EXPECT_NE(solid_boundary_problems(check_surface(inward)).find(" oriented inward (negative volume);"),
+            std::string::npos);
+}
+
 TEST(CheckSurface, TwoTetrahedraSharingAnEdge) {
   // Tet A in the positive octant, tet B below it: they share the edge 0-1 only.
   MeshBundle mesh = tetra_surface();
