@@ -212,11 +212,14 @@ struct GuardOptions {
   /// and inside tests count ray crossings. It must still be closed, manifold and
   /// outward-oriented (fill_holes() of check.hpp closes holes).
   bool allow_self_intersections = false;
-  /// At most this many extra candidates for faces no skeleton point sees (spread
-  /// evenly over them).
+  /// At most this many extra candidates for faces no skeleton point sees.
   std::size_t max_added_candidates = 4000;
+  /// Extra candidates are added in rounds, each round's vertices at least this far apart
+  /// (0: 2% of the bounding-box diagonal).
+  double added_candidate_spread = 0;
   /// Candidate guards given by the caller instead of the skeleton's (those outside the
-  /// solid are left out; faces none of them sees still get extra candidates). With the
+  /// solid are left out; faces none of them sees still get extra candidates, until each
+  /// is seen once: after the skeleton, until each is seen 8 times). With the
   /// candidate_points of an earlier result, reruns share their candidates: CGAL's
   /// skeleton is not repeatable within a process (it orders edges by address).
   std::vector<Vec3> candidates;

@@ -84,6 +84,36 @@ TEST(GuardSurface, UShapeNeedsTwoAndIlpIsNoWorseThanGreedy) {
   EXPECT_EQ(result.graph.size(), 1u);
 }
 
+TEST(GuardSurface, ExtraCandidatesCoverWhatTheGivenOnesMissInRounds) {
+  // The U of UShapeNeedsTwo with one given candidate, inside the left prong's top cube:
+  // it cannot see the right prong. The extra candidates near the unseen faces' vertices
+  // must cover them, added in rounds: fewer than one point per such vertex (all at once,
+  // each would get three).
+  const TriMesh u_shape =
+      voxel_surface({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {0, 2, 0}, {2, 1, 0}, {2, 2, 0}}, 3);
+  const Vec3 given(0.5, 2.5, 0.5);
+  const VisibilityOracle oracle(u_shape);
+  const CompressedRows seen_from_given = visible_faces(oracle, u_shape, std::span<const Vec3>(&given, 1));
+  std::vector<std::uint8_t> seen(u_shape.triangles.size(), 0), open(u_shape.points.size(), 0);
+  for (const Index f : seen_from_given.items) seen[f] = 1;
+  std::size_t open_vertices = 0;
+  for (std::size_t f = 0; f < u_shape.triangles.size(); ++f)
+    if (!seen[f])
+      for (const Index v : u_shape.triangles[f]) open_vertices += open[v] == 0, open[v] = 1;
+  ASSERT_GT(open_vertices, 50u);
+
+  GuardOptions options;
+  options.candidates = {given};
+  const GuardResult result = guard_surface(u_shape, options);
+  EXPECT_EQ(result.uncovered_faces, 0u);
+  expect_every_face_seen_exactly(u_shape, result);
+  EXPECT_EQ(result.candidates, 1 + result.added_candidates);
+  EXPECT_GT(result.added_candidates, 0u);
+  EXPECT_LT(result.added_candidates, open_vertices);
+  EXPECT_TRUE(result.optimal);
+  EXPECT_EQ(result.guards.size(), 2u);
+}
+
 TEST(GuardSurface, ProgressiveIlpCoversEveryFaceThroughItsLevels) {
   // A ring of 12 cubes (a torus of genus 1) at 1,152 vertices, with levels of 300, 600
   // and 900 vertices before the input, so every level runs.
