@@ -47,6 +47,11 @@ Action add_star_command(CLI::App& command, const GlobalOptions& global) {
                   "Without --strict: leftover components up to this many tets join a neighbouring part")
       ->capture_default_str();
   command
+      .add_option("--merge-max-violations", settings->options.merge_max_violations,
+                  "Without --strict: a leftover component joins a neighbouring part only if at most this many of "
+                  "its faces still break the growth rule after the vertex moves (else it is re-guarded)")
+      ->capture_default_str();
+  command
       .add_option("--repair-max-tets", settings->options.repair_max_tets,
                   "Leftover components up to this many tets try to join a neighbouring part with interior points "
                   "moved until the part is star-shaped again (0: never)")

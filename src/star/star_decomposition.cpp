@@ -164,7 +164,10 @@ class Grower {
     while (!queue_.empty()) {
       const Entry entry = queue_.top();
       queue_.pop();
-      if (tet_part_[entry.tet] == kInvalidIndex) take(entry.tet, entry.part);
+      // Admissible when queued, but the relocator may have moved its points since (a
+      // part seeded in a leftover round queues its neighbours at once and grows only
+      // after the round's later components were repaired: rocker arm, 1 run in 30).
+      if (tet_part_[entry.tet] == kInvalidIndex && admissible(entry.tet, entry.part)) take(entry.tet, entry.part);
     }
   }
 
@@ -838,12 +841,13 @@ StarResult star_decomposition(const TetMesh& solid, std::span<const Vec3> guards
       // A small component joins a neighbouring part and vertices around it move until
       // the rule holds again (Relocator). --strict keeps the join only if that
       // succeeds, trying the two parts sharing most faces; otherwise the component is
-      // merged regardless, into the part sharing most faces.
+      // merged regardless where the moves left the fewest faces breaking the rule, if
+      // they are few (merge_max_violations), else re-guarded.
       const bool try_repair = tets.size() <= options.repair_max_tets;
       const bool may_merge = !options.strict && tets.size() <= options.merge_max_tets;
       if ((try_repair || may_merge) && !order.empty()) {
         bool joined = false;
-        std::size_t best = 0, fewest = std::numeric_limits<std::size_t>::max();
+        std::size_t best = 0, fewest = std::numeric_limits<std::size_t>::max();  // over the tries
         for (std::size_t k = 0; k < std::min<std::size_t>(order.size(), 2) && try_repair; ++k) {
           for (const Index t : tets) result.tet_part[t] = order[k];
           const std::size_t mark = relocator.log_size();
@@ -859,11 +863,17 @@ StarResult star_decomposition(const TetMesh& solid, std::span<const Vec3> guards
           for (const Index t : tets) result.tet_part[t] = kInvalidIndex;
         }
         if (!joined && may_merge) {
-          // Merged regardless, where the repair left the fewest violations.
+          // Merged regardless, where the repair left the fewest violations, if they are few.
           for (const Index t : tets) result.tet_part[t] = order[best];
+          const std::size_t mark = relocator.log_size();
           relocator.repair(tets);
-          joined = true;
-          result.merged_tets += tets.size();
+          if (relocator.violations(tets) <= options.merge_max_violations) {
+            joined = true;
+            result.merged_tets += tets.size();
+          } else {
+            relocator.undo(mark);
+            for (const Index t : tets) result.tet_part[t] = kInvalidIndex;
+          }
         }
         if (joined) {
           if (progress) progress->advance(tets.size());
@@ -876,6 +886,11 @@ StarResult star_decomposition(const TetMesh& solid, std::span<const Vec3> guards
       result.parts.push_back({guard, true, 0, 0, 0, 0, 0, false});
       guard_points.push_back(to_point(guard));
       grower.seed(part, seed, guard);
+      // The seed tet is in the new part now, and a later component of this round may
+      // share a vertex with it: the relocator must know the new part's guard. (It read
+      // past the end of its guard list here, about a hundred times per kitten run, until
+      // 2026-12-05; one bench run then had a --strict part fail the star check.)
+      relocator.set_guards(result.parts);
       seeded = true;
     }
     if (!seeded) continue;  // only merges this round; components are recomputed
