@@ -89,67 +89,63 @@ std::size_t add_candidates_for_unseen_faces(const TriMesh& surface, const CurveS
   const std::vector<Vec3> normals = vertex_normals(surface);
   const double spread =
       options.added_candidate_spread > 0 ? options.added_candidate_spread : 0.02 * surface.bounding_box().diagonal();
-  std::size_t added = 0;
-
-  // One phase: the points `offer` gives each vertex of a face seen by fewer than
-  // `needed` candidates, added round by round.
-  const auto add_in_rounds = [&](int needed, const auto& offer) {
-    // Every vertex's points, tested inside in one call (the test builds a tree).
-    std::vector<Index> first(vertices + 1, 0);
-    std::vector<Vec3> points;
+  // The three points of every vertex of an under-seen face, tested inside in one call (the
+  // test builds a tree over the surface).
+  std::vector<Index> first(vertices + 1, 0);
+  std::vector<Vec3> points;
+  {
     std::vector<std::uint8_t> open(vertices, 0);
     for (std::size_t f = 0; f < faces; ++f)
-      if (seen_by[f] < needed)
+      if (seen_by[f] < well_seen)
         for (const Index v : surface.triangles[f]) open[v] = 1;
     for (Index v = 0; v < vertices; ++v) {
       first[v] = static_cast<Index>(points.size());
-      if (open[v]) offer(v, points);
+      if (!open[v]) continue;
+      if (!skeleton.vertex_node.empty())
+        points.push_back(0.5 * (surface.points[v] + skeleton.nodes[skeleton.vertex_node[v]]));
+      points.push_back(surface.points[v] - 3.0 * shortest[v] * normals[v]);
+      points.push_back(surface.points[v] - 0.2 * shortest[v] * normals[v]);
     }
     first[vertices] = static_cast<Index>(points.size());
-    const std::vector<std::uint8_t> inside = inside_solid(surface, points);
-    std::vector<std::uint8_t> offered(vertices, 0), listed(vertices, 0);
-    while (added < options.max_added_candidates) {
-      std::vector<Index> round;  // vertices of faces still under-seen, in face order, spread out
-      std::fill(listed.begin(), listed.end(), std::uint8_t{0});
-      for (std::size_t f = 0; f < faces && round.size() < kRoundVertices; ++f) {
-        const auto& t = surface.triangles[f];
-        // A face its vertex's own points did not see lies where the surface passes
-        // through itself (a limb inside another; TOSCA michael: 1,941 such faces).
-        if (seen_by[f] >= needed || (seen_by[f] == 0 && offered[t[0]] + offered[t[1]] + offered[t[2]] >= 2)) continue;
-        for (const Index v : t) {
-          if (offered[v] || listed[v] || round.size() == kRoundVertices) continue;
-          listed[v] = 1;
-          if (std::all_of(round.begin(), round.end(), [&](Index u) {
-                return (surface.points[u] - surface.points[v]).squaredNorm() >= spread * spread;
-              }))
-            round.push_back(v);
-        }
+  }
+  const std::vector<std::uint8_t> inside = inside_solid(surface, points);
+  std::vector<std::uint8_t> offered(vertices, 0), listed(vertices, 0);
+  std::size_t added = 0;
+  while (added < options.max_added_candidates) {
+    std::vector<Index> round;  // vertices of faces still under-seen, in face order, spread out
+    std::fill(listed.begin(), listed.end(), std::uint8_t{0});
+    for (std::size_t f = 0; f < faces && round.size() < kRoundVertices; ++f) {
+      const auto& t = surface.triangles[f];
+      // A face its vertices' own points did not see lies where the surface passes through
+      // itself (a limb inside another; TOSCA michael: 1,941 such faces).
+      if (seen_by[f] >= well_seen || (seen_by[f] == 0 && offered[t[0]] + offered[t[1]] + offered[t[2]] >= 2)) continue;
+      for (const Index v : t) {
+        if (offered[v] || listed[v] || round.size() == kRoundVertices) continue;
+        listed[v] = 1;
+        if (std::all_of(round.begin(), round.end(), [&](Index u) {
+              return (surface.points[u] - surface.points[v]).squaredNorm() >= spread * spread;
+            }))
+          round.push_back(v);
       }
-      if (round.empty()) break;
-      std::vector<Vec3> kept;
-      for (const Index v : round) {
-        offered[v] = 1;
-        for (Index i = first[v]; i < first[v + 1]; ++i)
-          if (inside[i] && added + kept.size() < options.max_added_candidates) kept.push_back(points[i]);
-      }
-      if (kept.empty()) continue;
-      const CompressedRows more = visible_faces(oracle, surface, kept);
-      for (std::size_t r = 0; r < more.row_count(); ++r) {
-        const auto row = more.row(r);
-        for (const Index f : row) ++seen_by[f];
-        sets.items.insert(sets.items.end(), row.begin(), row.end());
-        sets.offsets.push_back(static_cast<Index>(sets.items.size()));
-      }
-      candidates.insert(candidates.end(), kept.begin(), kept.end());
-      added += kept.size();
     }
-  };
-  add_in_rounds(well_seen, [&](Index v, std::vector<Vec3>& points) {
-    if (!skeleton.vertex_node.empty())
-      points.push_back(0.5 * (surface.points[v] + skeleton.nodes[skeleton.vertex_node[v]]));
-    points.push_back(surface.points[v] - 3.0 * shortest[v] * normals[v]);
-    points.push_back(surface.points[v] - 0.2 * shortest[v] * normals[v]);
-  });
+    if (round.empty()) break;
+    std::vector<Vec3> kept;
+    for (const Index v : round) {
+      offered[v] = 1;
+      for (Index i = first[v]; i < first[v + 1]; ++i)
+        if (inside[i] && added + kept.size() < options.max_added_candidates) kept.push_back(points[i]);
+    }
+    if (kept.empty()) continue;
+    const CompressedRows more = visible_faces(oracle, surface, kept);
+    for (std::size_t r = 0; r < more.row_count(); ++r) {
+      const auto row = more.row(r);
+      for (const Index f : row) ++seen_by[f];
+      sets.items.insert(sets.items.end(), row.begin(), row.end());
+      sets.offsets.push_back(static_cast<Index>(sets.items.size()));
+    }
+    candidates.insert(candidates.end(), kept.begin(), kept.end());
+    added += kept.size();
+  }
   return added;
 }
 
