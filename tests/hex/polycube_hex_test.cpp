@@ -6,6 +6,7 @@
 #include "structmesh/hex.hpp"
 #include "structmesh/io.hpp"
 #include "structmesh/quality.hpp"
+#include "test_data.hpp"
 
 #include <gtest/gtest.h>
 
@@ -18,10 +19,7 @@
 namespace structmesh {
 namespace {
 
-std::filesystem::path data_dir() {
-  const char* env = std::getenv("STRUCTMESH_DATA");
-  return std::filesystem::path(env != nullptr && *env != '\0' ? env : STRUCTMESH_DATA_DEFAULT);
-}
+using test::data_dir;
 
 double total_volume(const HexMesh& mesh) {
   // Each hex as 5 tets would be exact for planar faces only; a fine sum over 6 pyramids to

@@ -5,6 +5,7 @@
 #include "structmesh/error.hpp"
 #include "structmesh/io.hpp"
 #include "structmesh/mesh.hpp"
+#include "test_data.hpp"
 
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
@@ -544,10 +545,7 @@ const std::map<std::string, std::pair<std::size_t, std::size_t>> kSurfaceTable{
     {"tosca_victoria.off", {45659, 91208}},
 };
 
-std::filesystem::path surface_folder() {
-  const char* env = std::getenv("STRUCTMESH_DATA");
-  return std::filesystem::path(env != nullptr && *env != '\0' ? env : STRUCTMESH_DATA_DEFAULT) / "surfaces";
-}
+std::filesystem::path surface_folder() { return test::data_dir() / "surfaces"; }
 
 TEST(SurfaceIoData, EverySurfaceMatchesTheReadmeTable) {
   const std::filesystem::path folder = surface_folder();

@@ -5,6 +5,7 @@
 #include "structmesh/error.hpp"
 #include "structmesh/io.hpp"
 #include "structmesh/regions.hpp"
+#include "test_data.hpp"
 
 #include <gtest/gtest.h>
 
@@ -22,10 +23,7 @@
 namespace structmesh {
 namespace {
 
-std::filesystem::path data_dir() {
-  const char* env = std::getenv("STRUCTMESH_DATA");
-  return std::filesystem::path(env != nullptr && *env != '\0' ? env : STRUCTMESH_DATA_DEFAULT);
-}
+using test::data_dir;
 
 Polygon2 make_polygon(std::initializer_list<std::vector<Vec2>> rings) {
   Polygon2 polygon;

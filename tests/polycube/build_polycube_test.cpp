@@ -7,6 +7,7 @@
 #include "structmesh/error.hpp"
 #include "structmesh/io.hpp"
 #include "structmesh/polycube.hpp"
+#include "test_data.hpp"
 
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
@@ -25,10 +26,7 @@ using test::sphere;
 using test::subdivided_box;
 using test::torus;
 
-std::filesystem::path data_dir() {
-  const char* env = std::getenv("STRUCTMESH_DATA");
-  return std::filesystem::path(env != nullptr && *env != '\0' ? env : STRUCTMESH_DATA_DEFAULT);
-}
+using test::data_dir;
 
 /// The polycube surface is a valid orthogonal polyhedron: a closed, consistently oriented
 /// 2-manifold of axis-aligned quads bounding positive volume, with the expected genus.

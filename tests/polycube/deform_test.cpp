@@ -6,6 +6,7 @@
 #include "structmesh/error.hpp"
 #include "structmesh/io.hpp"
 #include "structmesh/polycube.hpp"
+#include "test_data.hpp"
 
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
@@ -23,10 +24,7 @@ namespace {
 
 using test::Cell;
 
-std::filesystem::path surfaces_dir() {
-  const char* env = std::getenv("STRUCTMESH_DATA");
-  return std::filesystem::path(env != nullptr && *env != '\0' ? env : STRUCTMESH_DATA_DEFAULT) / "surfaces";
-}
+std::filesystem::path surfaces_dir() { return test::data_dir() / "surfaces"; }
 
 // The box [0,3] x [0,2] x [0,1] (three by two unit cells), each unit square of its
 // boundary cut into n x n pieces.

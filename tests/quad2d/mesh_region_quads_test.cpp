@@ -4,6 +4,7 @@
 #include "structmesh/error.hpp"
 #include "structmesh/io.hpp"
 #include "structmesh/quad2d.hpp"
+#include "test_data.hpp"
 
 #include <gtest/gtest.h>
 
@@ -18,10 +19,7 @@
 namespace structmesh {
 namespace {
 
-std::filesystem::path data_dir() {
-  const char* env = std::getenv("STRUCTMESH_DATA");
-  return std::filesystem::path(env != nullptr && *env != '\0' ? env : STRUCTMESH_DATA_DEFAULT);
-}
+using test::data_dir;
 
 // All quads counter-clockwise with positive scaled Jacobian, every edge in one or two
 // quads; returns the number of boundary edges.

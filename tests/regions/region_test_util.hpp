@@ -2,6 +2,7 @@
 #pragma once
 
 #include "structmesh/mesh.hpp"
+#include "test_data.hpp"
 
 #include <cstdlib>
 #include <filesystem>
@@ -10,11 +11,6 @@
 #include <vector>
 
 namespace structmesh::test {
-
-inline std::filesystem::path data_dir() {
-  const char* env = std::getenv("STRUCTMESH_DATA");
-  return std::filesystem::path(env != nullptr && *env != '\0' ? env : STRUCTMESH_DATA_DEFAULT);
-}
 
 /// A polygon from rings given as point lists (ring 0 is the outer ring), stored as given.
 inline Polygon2 make_polygon(std::initializer_list<std::vector<Vec2>> rings) {

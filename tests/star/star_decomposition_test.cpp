@@ -4,6 +4,7 @@
 #include "structmesh/io.hpp"
 #include "structmesh/star.hpp"
 #include "structmesh/tetmesh.hpp"
+#include "test_data.hpp"
 
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -118,9 +119,7 @@ void expect_star_shaped(const TetMesh& input, const StarResult& result) {
 // A surface of the data set tetrahedralized at its mean edge length, as `structmesh star`
 // does (the test fails if it is missing).
 TetMesh data_solid(const std::string& name) {
-  const char* env = std::getenv("STRUCTMESH_DATA");
-  const std::filesystem::path path =
-      std::filesystem::path(env != nullptr && *env != '\0' ? env : STRUCTMESH_DATA_DEFAULT) / "surfaces" / name;
+  const std::filesystem::path path = test::data_dir() / "surfaces" / name;
   if (!std::filesystem::exists(path)) throw std::runtime_error(path.string() + " missing: set STRUCTMESH_DATA");
   const TriMesh surface = to_tri_mesh(read_mesh(path));
   TetmeshOptions options;

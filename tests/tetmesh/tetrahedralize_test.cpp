@@ -4,6 +4,7 @@
 #include "structmesh/error.hpp"
 #include "structmesh/io.hpp"
 #include "structmesh/tetmesh.hpp"
+#include "test_data.hpp"
 
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
@@ -226,9 +227,7 @@ TEST(Tetrahedralize, RejectsUnusedPoints) {
 }
 
 TEST(Tetrahedralize, TorusModelFromData) {
-  const char* env = std::getenv("STRUCTMESH_DATA");
-  const std::filesystem::path path =
-      std::filesystem::path(env && *env ? env : STRUCTMESH_DATA_DEFAULT) / "surfaces" / "torus.obj";
+  const std::filesystem::path path = test::data_dir() / "surfaces" / "torus.obj";
   if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " is missing (set STRUCTMESH_DATA)";
   const TriMesh surface = to_tri_mesh(read_mesh(path));
   const TetmeshResult result = tetrahedralize(surface);
