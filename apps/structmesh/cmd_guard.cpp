@@ -79,6 +79,12 @@ Action add_guard_command(CLI::App& command, const GlobalOptions& global) {
                   "pilp: at the end, groups of this many guards are replaced by fewer where a small exact ILP "
                   "finds it (0 or 1: off)")
       ->capture_default_str();
+  command
+      .add_option("--refine-seconds", settings->options.refine_seconds,
+                  "ilp, pilp: after the cover, up to this many seconds of rounds of candidates where one guard may "
+                  "replace two (in the kernel of the faces only those two see), solved again (0: off)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   command.add_option("--candidates", settings->candidates_path,
                      "Candidate guards from the \"candidates\" of an earlier guards.json instead of the curve "
                      "skeleton (the skeleton varies slightly from run to run; this makes a rerun repeatable)");
@@ -138,16 +144,29 @@ Action add_guard_command(CLI::App& command, const GlobalOptions& global) {
       write.cell_data.push_back(std::move(guard));
       write_mesh(output, coloured, write);
     }
-    say(global, std::to_string(result.guards.size()) + " guards (" + settings->method +
-                    (settings->method == "ilp" ? (result.optimal ? ", optimal" : ", not proven optimal") : "") +
-                    "; greedy " + std::to_string(result.greedy_guards) + ") from " + std::to_string(result.candidates) +
-                    " candidates; " + std::to_string(result.uncovered_faces) + " faces seen by no candidate");
+    std::string how = settings->method;
+    if (settings->method == "ilp")
+      how += std::string(result.optimal ? ", optimal" : ", not proven optimal") + " over " +
+             std::to_string(result.candidates) + " candidates";
+    if (result.kernel_candidates > 0)
+      how += "; " + std::to_string(result.guards_before_refinement) + " before the kernel rounds' " +
+             std::to_string(result.kernel_candidates) + " candidates";
+    say(global, std::to_string(result.guards.size()) + " guards (" + how + "; greedy " +
+                    std::to_string(result.greedy_guards_before_refinement) + "); " +
+                    std::to_string(result.uncovered_faces) + " faces seen by no candidate");
     nlohmann::json report{{"input", settings->input},
                           {"vertices", surface.points.size()},
                           {"faces", surface.triangles.size()},
                           {"method", settings->method},
                           {"guards", result.guards.size()},
                           {"greedy_guards", result.greedy_guards},
+                          {"greedy_guards_before_refinement", result.greedy_guards_before_refinement},
+                          {"guards_before_refinement", result.guards_before_refinement},
+                          {"kernel_candidates", result.kernel_candidates},
+                          {"refinement_rounds", result.refinement_rounds},
+                          {"refinement_exchanges", result.refinement_exchanges},
+                          {"refined_optimal", result.refined_optimal},
+                          {"refined_lower_bound", result.refined_lower_bound},
                           {"optimal", result.optimal},
                           {"lower_bound", result.lower_bound},
                           {"skeleton_nodes", result.skeleton_nodes},

@@ -14,6 +14,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <span>
 #include <string>
@@ -162,20 +163,23 @@ struct IlpSetCoverResult {
 /// for every element e, x binary; after reduce_set_cover(), split into independent
 /// blocks (rule 4 of §2.2.3: sets linked through shared elements), each solved by COIN-OR CBC
 /// (stand-alone solver defaults, no log) within `time_limit_seconds` of wall time. CBC
-/// starts from the greedy cover, and the better of the two is returned, so a time-out
-/// still gives a cover (optimal = false, lower_bound from CBC's bound). InputError as
-/// for greedy_set_cover(); Error if the result were not a cover.
-IlpSetCoverResult ilp_set_cover(const CompressedRows& sets, std::size_t element_count, double time_limit_seconds = 60);
+/// starts from the greedy cover, or from `start` (set ids, completed greedily to a cover
+/// of each block) where that is smaller, and the best is returned, so a time-out still
+/// gives a cover (optimal = false, lower_bound from CBC's bound). InputError as for
+/// greedy_set_cover(); Error if the result were not a cover.
+IlpSetCoverResult ilp_set_cover(const CompressedRows& sets, std::size_t element_count, double time_limit_seconds = 60,
+                                std::span<const Index> start = {});
 
 /// Local search on a cover (the progressive ILP's last step): each set with the
 /// group_size - 1 sets of `cover` sharing most elements with it is replaced by fewer sets
 /// when an exact ILP (ilp_set_cover(), `time_limit_seconds` each) over the elements only
 /// that group covers finds fewer; repeated until no group improves. A group as large as
 /// the cover makes it the exact optimum. `cover` stays a cover; returns how many sets it
-/// lost. InputError when `cover` is not a cover of every element some set covers, or
-/// names a set that does not exist.
+/// lost. No group starts after `total_seconds`. InputError when `cover` is not a cover of
+/// every element some set covers, or names a set that does not exist.
 std::size_t improve_set_cover(const CompressedRows& sets, std::size_t element_count, std::vector<Index>& cover,
-                              std::size_t group_size, double time_limit_seconds = 60);
+                              std::size_t group_size, double time_limit_seconds = 60,
+                              double total_seconds = std::numeric_limits<double>::infinity());
 
 // ---------------------------------------------------------------------------
 // The whole guarding stage (§2.2): candidates from the curve skeleton, visibility,
@@ -212,6 +216,12 @@ struct GuardOptions {
   /// and inside tests count ray crossings. It must still be closed, manifold and
   /// outward-oriented (fill_holes() of check.hpp closes holes).
   bool allow_self_intersections = false;
+  /// After the ILP or progressive ILP: rounds of candidates where one guard might replace
+  /// two of the cover (in the kernel of the faces only those two see), each round
+  /// followed by local exchanges of the cover (improve_set_cover), while they gain and
+  /// for about this many seconds (0: off); the ILP then tries to prove the optimum over
+  /// all candidates in the time left.
+  double refine_seconds = 3;
   /// At most this many extra candidates for faces no skeleton point sees.
   std::size_t max_added_candidates = 4000;
   /// Extra candidates are added in rounds, each round's vertices at least this far apart
@@ -255,9 +265,19 @@ struct GuardResult {
   std::size_t added_candidates = 0;    ///< inward offsets of vertices no skeleton point saw
   std::size_t uncovered_faces = 0;     ///< seen by no candidate at all (left out of the cover)
   std::size_t self_intersections = 0;  ///< face pairs that cross (allow_self_intersections only)
-  std::size_t greedy_guards = 0;       ///< the greedy cover's size (always computed)
-  bool optimal = false;                ///< the ILP proved its cover minimal
-  double lower_bound = 0;              ///< the ILP's bound on the minimum
+  /// The greedy cover's size over the same candidates as the cover (kernel ones included).
+  std::size_t greedy_guards = 0;
+  std::size_t greedy_guards_before_refinement = 0;  ///< ... over the candidates before the kernel rounds
+  std::size_t guards_before_refinement = 0;         ///< the cover's size before the kernel rounds
+  std::size_t kernel_candidates = 0;     ///< candidates the kernel rounds added (see GuardOptions::refine_seconds)
+  std::size_t refinement_rounds = 0;     ///< kernel rounds that lowered the guard count
+  std::size_t refinement_exchanges = 0;  ///< guards the kernel rounds' local exchanges saved
+  /// ILP only: the cover after the kernel rounds is proven optimal over every candidate,
+  /// kernel ones included (`optimal` is about the candidates before them).
+  bool refined_optimal = false;
+  double refined_lower_bound = 0;
+  bool optimal = false;    ///< the ILP proved its cover minimal
+  double lower_bound = 0;  ///< the ILP's bound on the minimum
   std::size_t rows_before = 0, rows_after = 0, columns_before = 0, columns_after = 0;
   std::vector<PilpLevel> levels;   ///< progressive ILP only, coarsest first
   std::size_t pilp_pruned = 0;     ///< progressive ILP: guards found redundant at the end

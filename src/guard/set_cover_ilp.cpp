@@ -127,9 +127,36 @@ std::vector<Block> split_into_blocks(const CompressedRows& sets, std::size_t ele
   return blocks;
 }
 
+// The part of `start` (input set ids, marked in `in_start`) in the block, completed by
+// the greedy cover of what it leaves uncovered (its dominated sets were removed).
+std::vector<Index> block_start(const Block& block, const std::vector<Index>& kept_columns,
+                               const std::vector<std::uint8_t>& in_start) {
+  std::vector<Index> chosen;
+  std::vector<std::uint8_t> covered(block.rows, 0);
+  for (std::size_t k = 0; k < block.columns.size(); ++k)
+    if (in_start[kept_columns[block.columns[k]]]) {
+      chosen.push_back(static_cast<Index>(k));
+      for (const Index e : block.sets.row(k)) covered[e] = 1;
+    }
+  Index open = 0;
+  std::vector<Index> element(block.rows, kInvalidIndex);
+  for (std::size_t e = 0; e < block.rows; ++e)
+    if (!covered[e]) element[e] = open++;
+  if (open == 0) return chosen;
+  CompressedRows rest;
+  for (std::size_t k = 0; k < block.columns.size(); ++k) {
+    for (const Index e : block.sets.row(k))
+      if (element[e] != kInvalidIndex) rest.items.push_back(element[e]);
+    rest.offsets.push_back(static_cast<Index>(rest.items.size()));
+  }
+  for (const Index k : greedy_set_cover(rest, open)) chosen.push_back(k);
+  return chosen;
+}
+
 }  // namespace
 
-IlpSetCoverResult ilp_set_cover(const CompressedRows& sets, std::size_t element_count, double time_limit_seconds) {
+IlpSetCoverResult ilp_set_cover(const CompressedRows& sets, std::size_t element_count, double time_limit_seconds,
+                                std::span<const Index> start) {
   const auto started = std::chrono::steady_clock::now();
   const SetCoverReduction reduction = reduce_set_cover(sets, element_count);
   IlpSetCoverResult result;
@@ -138,6 +165,9 @@ IlpSetCoverResult ilp_set_cover(const CompressedRows& sets, std::size_t element_
   result.columns_before = reduction.columns_before;
   result.columns_after = reduction.columns_after;
 
+  std::vector<std::uint8_t> in_start(sets.row_count(), 0);
+  for (const Index c : start)
+    if (c < sets.row_count()) in_start[c] = 1;
   std::vector<Index> picked;  // positions in the reduced instance
   result.optimal = true;      // the reductions keep an optimum; nothing left to solve is optimal
   std::size_t greedy_total = 0;
@@ -148,8 +178,12 @@ IlpSetCoverResult ilp_set_cover(const CompressedRows& sets, std::size_t element_
     const std::vector<Block> blocks = split_into_blocks(reduction.reduced_sets, reduction.rows_after);
     result.blocks = blocks.size();
     for (const Block& block : blocks) {
-      const std::vector<Index> greedy = greedy_set_cover(block.sets, block.rows);
+      std::vector<Index> greedy = greedy_set_cover(block.sets, block.rows);
       greedy_total += greedy.size();
+      if (!start.empty()) {
+        std::vector<Index> from_start = block_start(block, reduction.kept_columns, in_start);
+        if (from_start.size() < greedy.size()) greedy = std::move(from_start);
+      }
       std::vector<Index> best = greedy;
       bool block_optimal = false;
       double block_bound = 1;

@@ -12,6 +12,7 @@
 #include "structmesh/guard.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <string>
 #include <utility>
 #include <vector>
@@ -19,7 +20,9 @@
 namespace structmesh {
 
 std::size_t improve_set_cover(const CompressedRows& rows, std::size_t faces, std::vector<Index>& guards,
-                              std::size_t group_size, double time_limit) {
+                              std::size_t group_size, double time_limit, double total_seconds) {
+  const auto start = std::chrono::steady_clock::now();
+  const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   for (const Index g : guards)
     if (g >= rows.row_count())
       throw InputError("improve_set_cover: set " + std::to_string(g) + " of the cover is not among the " +
@@ -52,6 +55,7 @@ std::size_t improve_set_cover(const CompressedRows& rows, std::size_t faces, std
   for (bool improved = true; improved;) {
     improved = false;
     for (std::size_t i = 0; i < guards.size() && !improved; ++i) {
+      if (elapsed() >= total_seconds) return saved;
       // The group: guard i and the guards sharing most faces with it.
       for (const Index f : rows.row(guards[i])) in_group[f] = 1;
       std::vector<std::pair<std::size_t, Index>> by_overlap;
@@ -97,7 +101,10 @@ std::size_t improve_set_cover(const CompressedRows& rows, std::size_t faces, std
       for (const Index c : relevant) candidate_slot[c] = kInvalidIndex;
       // No exclusive face: the others see all of the group's faces and it just goes.
       const std::vector<Index> chosen =
-          exclusive.empty() ? std::vector<Index>{} : ilp_set_cover(sub, exclusive.size(), time_limit).chosen;
+          exclusive.empty()
+              ? std::vector<Index>{}
+              : ilp_set_cover(sub, exclusive.size(), std::min(time_limit, std::max(0.01, total_seconds - elapsed())))
+                    .chosen;
       if (chosen.size() >= group.size()) continue;
       // Replace the group by the ILP's guards.
       for (const Index member : group)

@@ -70,6 +70,43 @@ TEST(GuardSurface, LShapeIsStarShapedAndNeedsOne) {
   expect_every_face_seen_exactly(l_shape, result);
 }
 
+TEST(GuardSurface, KernelRoundsReplaceTwoGuardsByOneInTheirFacesKernel) {
+  // The L of LShapeIsStarShaped with two given candidates near the tips of its arms: each
+  // misses the far end of the other arm (the segment passes outside the reflex edge), so
+  // over them alone the cover needs both. The faces only they see have the corner cube as
+  // the kernel of their inner half-spaces: the kernel round's point there sees everything.
+  const TriMesh l_shape = voxel_surface({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, 4);
+  for (const GuardMethod method : {GuardMethod::Ilp, GuardMethod::Pilp}) {
+    GuardOptions options;
+    options.method = method;
+    options.candidates = {Vec3(1.8, 0.5, 0.5), Vec3(0.5, 1.8, 0.5)};
+    options.refine_seconds = 0;
+    const GuardResult without = guard_surface(l_shape, options);
+    EXPECT_EQ(without.uncovered_faces, 0u);
+    EXPECT_EQ(without.kernel_candidates, 0u);
+    ASSERT_EQ(without.guards.size(), 2u);
+
+    options.refine_seconds = 30;
+    const GuardResult result = guard_surface(l_shape, options);
+    EXPECT_EQ(result.uncovered_faces, 0u);
+    EXPECT_EQ(result.guards_before_refinement, 2u);
+    EXPECT_GT(result.kernel_candidates, 0u);
+    ASSERT_EQ(result.guards.size(), 1u);
+    EXPECT_EQ(result.refinement_rounds, 1u);
+    const Vec3& guard = result.guards[0].position;
+    EXPECT_TRUE((guard.array() >= 0).all() && (guard.array() <= 1).all()) << guard.transpose();
+    expect_every_face_seen_exactly(l_shape, result);
+    if (method == GuardMethod::Ilp) {
+      EXPECT_TRUE(result.optimal);
+      EXPECT_TRUE(result.refined_optimal);
+    }
+    // The greedy cover over the same candidates (kernel ones included) takes the kernel
+    // point as well: it sees every face.
+    EXPECT_EQ(result.greedy_guards, 1u);
+    EXPECT_EQ(result.greedy_guards_before_refinement, 2u);
+  }
+}
+
 TEST(GuardSurface, UShapeNeedsTwoAndIlpIsNoWorseThanGreedy) {
   // A U of seven cubes, prongs three long: no point sees the tops of both prongs.
   const TriMesh u_shape =
@@ -133,16 +170,21 @@ TEST(GuardSurface, ProgressiveIlpCoversEveryFaceThroughItsLevels) {
     EXPECT_EQ(level.guards, level.kept + level.added);
     EXPECT_LE(level.universe, level.faces);
   }
-  EXPECT_EQ(pilp.guards.size() + pilp.pilp_pruned + pilp.pilp_exchanges, pilp.levels.back().guards);
+  EXPECT_EQ(pilp.guards_before_refinement + pilp.pilp_pruned + pilp.pilp_exchanges, pilp.levels.back().guards);
+  // The kernel rounds after it only lower the count, by what their exchanges saved.
+  EXPECT_EQ(pilp.guards.size() + pilp.refinement_exchanges, pilp.guards_before_refinement);
   EXPECT_FALSE(pilp.optimal);  // PILP proves nothing about the whole
-  // Against the exact optimum on the same candidates: no better, and at most greedy.
+  // Against the exact optimum on the same candidates (before the kernel rounds, which
+  // add candidates of their own): no better, and at most greedy.
   options.method = GuardMethod::Ilp;
   options.candidates = pilp.candidate_points;
   const GuardResult ilp = guard_surface(torus, options);
   ASSERT_TRUE(ilp.optimal);
   EXPECT_EQ(ilp.candidates, pilp.candidates);
-  EXPECT_GE(pilp.guards.size(), ilp.guards.size());
-  EXPECT_LE(pilp.guards.size(), pilp.greedy_guards + 1);
+  EXPECT_GE(pilp.guards_before_refinement, ilp.guards_before_refinement);
+  EXPECT_LE(pilp.guards_before_refinement, pilp.greedy_guards_before_refinement + 1);
+  EXPECT_LE(ilp.guards.size(), ilp.guards_before_refinement);
+  EXPECT_LE(pilp.guards.size(), pilp.guards_before_refinement);
 }
 
 TEST(GuardSurface, SelfIntersectingSurfaceOnlyWhenAllowed) {
