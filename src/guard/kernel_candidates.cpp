@@ -208,6 +208,20 @@ std::vector<Vec3> kernel_candidates(const TriMesh& surface, const CompressedRows
     if (planes.empty()) continue;
     lo = lo.cwiseMin(candidates[chosen[a]]).cwiseMin(candidates[chosen[b]]);
     hi = hi.cwiseMax(candidates[chosen[a]]).cwiseMax(candidates[chosen[b]]);
+    // The LPs run in the box's frame, its centre at the origin and its diagonal 1, so that
+    // CLP's absolute tolerances and the row generation's are relative to the pair's box
+    // whatever the model's units and position (CLP also scales its rows itself: a test
+    // with the L 5,000 km from the origin passes either way).
+    const Vec3 origin = 0.5 * (lo + hi);
+    const double scale = (hi - lo).norm();
+    if (!(scale > 0)) continue;
+    for (Plane& plane : planes) {
+      plane.offset = (plane.offset - plane.normal.dot(origin)) / scale;
+      plane.weight /= scale * scale;
+    }
+    const Vec3 world_midpoint = 0.5 * (candidates[chosen[a]] + candidates[chosen[b]]);
+    const auto to_world = [&](const Vec3& x) { return Vec3(origin + scale * x); };
+    lo = (lo - origin) / scale, hi = (hi - origin) / scale;
     Vec3 centre;
     double depth = 0;
     const auto chebyshev = [&](const std::vector<Plane>& rows, Vec3& x, double& r) {
@@ -225,11 +239,11 @@ std::vector<Vec3> kernel_candidates(const TriMesh& surface, const CompressedRows
       double unused = 0;
       if (solve_with_row_generation(
               planes, least, [&](double) { return margin; }, centre, unused))
-        points.push_back(centre);
+        points.push_back(to_world(centre));
       continue;
     }
-    points.push_back(centre);
-    const Vec3 midpoint = 0.5 * (candidates[chosen[a]] + candidates[chosen[b]]);
+    points.push_back(to_world(centre));
+    const Vec3 midpoint = (world_midpoint - origin) / scale;
     const double margin = 0.25 * depth;
     const auto nearest = [&](const std::vector<Plane>& rows, Vec3& x, double&) {
       return nearest_kernel_point(rows, margin, lo, hi, midpoint, x);
@@ -238,7 +252,7 @@ std::vector<Vec3> kernel_candidates(const TriMesh& surface, const CompressedRows
     double unused = 0;
     if (solve_with_row_generation(
             planes, nearest, [&](double) { return margin; }, near, unused))
-      points.push_back(near);
+      points.push_back(to_world(near));
   }
   return points;
 }

@@ -107,6 +107,25 @@ TEST(GuardSurface, KernelRoundsReplaceTwoGuardsByOneInTheirFacesKernel) {
   }
 }
 
+TEST(GuardSurface, KernelRoundsWorkFarFromTheOriginAndAtAnyScale) {
+  // The same L in millimetres, 5 km from the origin (UTM-like coordinates): the LPs see
+  // the same kernel.
+  TriMesh l_shape = voxel_surface({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, 4);
+  const Vec3 offset(5.0e6, -4.0e6, 3.0e5);
+  constexpr double kScale = 1000;
+  for (Vec3& p : l_shape.points) p = offset + kScale * p;
+  GuardOptions options;
+  options.candidates = {offset + kScale * Vec3(1.8, 0.5, 0.5), offset + kScale * Vec3(0.5, 1.8, 0.5)};
+  options.refine_seconds = 30;
+  const GuardResult result = guard_surface(l_shape, options);
+  EXPECT_EQ(result.uncovered_faces, 0u);
+  EXPECT_EQ(result.guards_before_refinement, 2u);
+  ASSERT_EQ(result.guards.size(), 1u);
+  const Vec3 local = (result.guards[0].position - offset) / kScale;
+  EXPECT_TRUE((local.array() >= 0).all() && (local.array() <= 1).all()) << local.transpose();
+  expect_every_face_seen_exactly(l_shape, result);
+}
+
 TEST(GuardSurface, UShapeNeedsTwoAndIlpIsNoWorseThanGreedy) {
   // A U of seven cubes, prongs three long: no point sees the tops of both prongs.
   const TriMesh u_shape =
