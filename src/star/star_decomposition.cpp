@@ -846,9 +846,10 @@ StarResult star_decomposition(const TetMesh& solid, std::span<const Vec3> guards
       const bool try_repair = tets.size() <= options.repair_max_tets;
       const bool may_merge = !options.strict && tets.size() <= options.merge_max_tets;
       if ((try_repair || may_merge) && !order.empty()) {
-        bool joined = false;
+        bool joined = false, merge_tried = false;
         std::size_t best = 0, fewest = std::numeric_limits<std::size_t>::max();  // over the tries
-        for (std::size_t k = 0; k < std::min<std::size_t>(order.size(), 2) && try_repair; ++k) {
+        const std::size_t tries = try_repair ? std::min<std::size_t>(order.size(), 2) : 0;
+        for (std::size_t k = 0; k < tries; ++k) {
           for (const Index t : tets) result.tet_part[t] = order[k];
           const std::size_t mark = relocator.log_size();
           relocator.repair(tets);
@@ -859,10 +860,20 @@ StarResult star_decomposition(const TetMesh& solid, std::span<const Vec3> guards
             break;
           }
           if (left < fewest) fewest = left, best = k;
+          // The last try being the best, the merge below would repeat this very repair
+          // from the same state: its outcome is decided here.
+          if (k + 1 == tries && best == k && may_merge) {
+            merge_tried = true;
+            if (left <= options.merge_max_violations) {
+              joined = true;
+              result.merged_tets += tets.size();
+              break;
+            }
+          }
           relocator.undo(mark);
           for (const Index t : tets) result.tet_part[t] = kInvalidIndex;
         }
-        if (!joined && may_merge) {
+        if (!joined && may_merge && !merge_tried) {
           // Merged regardless, where the repair left the fewest violations, if they are few.
           for (const Index t : tets) result.tet_part[t] = order[best];
           const std::size_t mark = relocator.log_size();
