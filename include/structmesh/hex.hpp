@@ -202,6 +202,25 @@ struct VolumetricMap {
 VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source, const TriMesh& boundary_target,
                              const VolumetricMapOptions& options = {});
 
+struct FlippedTetRepair {
+  std::size_t flipped_before = 0, flipped_after = 0;
+  std::size_t cavities = 0;        ///< cavities re-triangulated as stars
+  std::size_t removed_tets = 0;    ///< tets in them
+  std::size_t added_tets = 0;      ///< cone tets that replaced them
+  std::size_t largest_cavity = 0;  ///< tets
+  int largest_ring = 0;            ///< vertex rings the largest growth needed
+};
+
+/// The flipped tets a map's untangling leaves, repaired by re-triangulation: around each
+/// cluster of flipped tets a cavity (the cluster, grown by up to `max_rings` vertex rings) is
+/// removed and replaced by the cone from one new point over its boundary faces, placed in the
+/// kernel of that boundary both in the source (`tets.points`) and in the parameter domain
+/// (`parameter`, one position per point), so every cone tet is positive in both. Where no
+/// cavity has both kernels, the cluster stays. The map on the cavities' boundaries, and so
+/// every boundary point's image, is unchanged; new points are appended to both arrays, the
+/// points inside the cavities stay unreferenced.
+FlippedTetRepair repair_flipped_tets(TetMesh& tets, std::vector<Vec3>& parameter, int max_rings = 4);
+
 struct HexOptions {
   PolycubeOptions polycube;
   std::size_t target_hexes = 0;  ///< about this many hexes (0: use `size`)
@@ -233,8 +252,9 @@ struct HexResult {
   /// §5.2.1's relaxation of Q's projection onto P (the map's boundary); empty when the map
   /// ends on Q (plane merging off)
   SurfaceMapRelaxation surface_map;
-  VolumetricMap map;    ///< statistics of the map
-  double hex_size = 0;  ///< the grid's target edge length in the parameter domain
+  VolumetricMap map;                ///< statistics of the map
+  FlippedTetRepair flipped_repair;  ///< the re-triangulation of what the map's untangling left flipped
+  double hex_size = 0;              ///< the grid's target edge length in the parameter domain
   std::size_t padding_hexes = 0;
   std::size_t interior_points_outside = 0;  ///< grid points outside Q, put on it before smoothing
   /// boundary points the map put on a sheet facing against their neighbours', moved back

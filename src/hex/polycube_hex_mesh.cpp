@@ -294,6 +294,12 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
   if (options.progress)
     status("hex: volumetric map of " + std::to_string(result.tets.tets.size()) + " tets (frames, (5.1), untangling)");
   result.map = volumetric_map(result.tets, aligned, polycube.pseudo.surface, map_options);
+  if (result.map.flipped > 0) {
+    result.flipped_repair = repair_flipped_tets(result.tets, result.map.parameter);
+    result.map.flipped = result.flipped_repair.flipped_after;
+    if (result.map.flipped == 0)
+      result.map.volume_distortion = volume_distortion(result.tets, TetMesh{result.map.parameter, result.tets.tets});
+  }
   result.parameter = result.map.parameter;
   timer.stop("volumetric map");
 

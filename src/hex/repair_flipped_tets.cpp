@@ -1,0 +1,326 @@
+// repair_flipped_tets(): the last step of the volumetric map's untangling (§5.2.2): what the
+// point-by-point untangling leaves flipped is cut out and re-triangulated as a star.
+//
+// Why. The untangling moves one point at a time (Knupp's function is convex in a point, so
+// each move is that point's best), and a fold whose points hold each other in place stays:
+// the remaining flipped tets are squeezed flat (volume -1e-9 beside 1e-7 in the source)
+// around boundary edges the surface map stretched 5-20x. Joint untangling (Garanzha et
+// al.'s foldover-free energy over rings of the fold) and edge refinement around it both
+// left most of them (docs/design/hex.md).
+//
+// How. A cavity C of tets around a cluster of flipped tets is removed, and one new point s
+// is joined to every face of its boundary, in the source (the solid M) and in the parameter
+// domain alike. The cone tet on a boundary face is positive exactly where s lies on the inner
+// side of the face's plane, so the cone is valid in both domains when s_source lies in the
+// kernel of C's boundary in M and s_parameter in the kernel of its image: the boundary is then
+// star-shaped from s, and (every face strictly in front of s, the surface closed) it bounds
+// a ball that the cone fills once. Each kernel point is the Chebyshev centre of the faces'
+// inner half-spaces, an LP of 4 unknowns solved by COIN-OR CLP. The map outside C and on C's
+// boundary is unchanged, so the mesh stays conforming and the boundary points keep their
+// images. C starts as the flipped tets of the cluster and grows by vertex rings until both
+// kernels have room (an empty kernel in the image means its boundary still folds there).
+//
+// The points of C that are not on its boundary stay in the point list, unreferenced.
+#include "structmesh/error.hpp"
+#include "structmesh/hex.hpp"
+#include "structmesh/quality.hpp"
+
+#include <CoinPackedMatrix.hpp>
+#include <OsiClpSolverInterface.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace structmesh {
+namespace {
+
+using Face = std::array<Index, 3>;  // outward from the cavity
+
+// Growth limits. On the bench models every cavity that worked did at its first try (the
+// cluster and one vertex ring, up to 82 tets); the clusters that failed failed at every size,
+// and growing them 60 steps up to 20,000 tets cost 7-9 s on the bunny, kitten_40k and the dog.
+constexpr int kGrowthSteps = 8;
+constexpr std::size_t kLargestCavity = 2000;
+
+std::array<Index, 3> sorted_face(const Face& f) {
+  std::array<Index, 3> s = f;
+  std::sort(s.begin(), s.end());
+  return s;
+}
+
+struct FaceHash {
+  std::size_t operator()(const std::array<Index, 3>& f) const {
+    return (static_cast<std::size_t>(f[0]) * 73856093u) ^ (static_cast<std::size_t>(f[1]) * 19349663u) ^
+           (static_cast<std::size_t>(f[2]) * 83492791u);
+  }
+};
+
+/// The boundary faces of the tets `cavity` (each outward from its tet), or empty when that
+/// boundary is not a closed 2-manifold (an edge in other than two faces).
+std::vector<Face> cavity_boundary(const TetMesh& tets, const std::vector<Index>& cavity) {
+  std::unordered_map<std::array<Index, 3>, std::pair<Face, int>, FaceHash> count;
+  count.reserve(cavity.size() * 4);
+  for (const Index t : cavity)
+    for (const auto& f : kTetFaces) {
+      const Face face{tets.tets[t][f[0]], tets.tets[t][f[1]], tets.tets[t][f[2]]};
+      auto [it, inserted] = count.try_emplace(sorted_face(face), face, 0);
+      ++it->second.second;
+    }
+  std::vector<Face> boundary;
+  std::unordered_map<std::uint64_t, int> edge_uses;
+  for (const auto& [key, entry] : count) {
+    if (entry.second != 1) continue;
+    boundary.push_back(entry.first);
+    for (int k = 0; k < 3; ++k) {
+      Index a = entry.first[k], b = entry.first[(k + 1) % 3];
+      if (a > b) std::swap(a, b);
+      ++edge_uses[(static_cast<std::uint64_t>(a) << 32) | b];
+    }
+  }
+  for (const auto& [edge, uses] : edge_uses)
+    if (uses != 2) return {};
+  // A deterministic order (the map's iteration order depends on the hash table's history).
+  std::sort(boundary.begin(), boundary.end());
+  return boundary;
+}
+
+/// The point deepest inside every face's inner half-space (the Chebyshev centre of the kernel
+/// of a closed surface), within the faces' box, and its depth; depth <= 0 when the kernel is
+/// empty or flat. Solved in the box's frame (centre at the origin, diagonal 1).
+double kernel_centre(const std::vector<Vec3>& points, const std::vector<Face>& faces, Vec3& centre) {
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::max()), hi = -lo;
+  for (const Face& f : faces)
+    for (const Index v : f) lo = lo.cwiseMin(points[v]), hi = hi.cwiseMax(points[v]);
+  const Vec3 middle = (lo + hi) / 2;
+  const double diagonal = (hi - lo).norm();
+  if (!(diagonal > 0)) return 0;
+  CoinPackedMatrix matrix(false, 0, 0);
+  matrix.setDimensions(0, 4);
+  std::vector<double> row_hi;
+  row_hi.reserve(faces.size());
+  for (const Face& f : faces) {
+    const Vec3 a = (points[f[0]] - middle) / diagonal, b = (points[f[1]] - middle) / diagonal,
+               c = (points[f[2]] - middle) / diagonal;
+    const Vec3 normal = (b - a).cross(c - a);  // outward
+    const double length = normal.norm();
+    if (!(length > 1e-300)) return 0;  // a degenerate face: no point is strictly in front
+    const Vec3 n = normal / length;
+    // n . s + depth <= n . a: s at least `depth` behind the face's plane.
+    const std::array<int, 4> index{0, 1, 2, 3};
+    const std::array<double, 4> value{n.x(), n.y(), n.z(), 1.0};
+    matrix.appendRow(4, index.data(), value.data());
+    row_hi.push_back(n.dot(a));
+  }
+  const std::vector<double> row_lo(row_hi.size(), -COIN_DBL_MAX);
+  const Vec3 box_lo = (lo - middle) / diagonal, box_hi = (hi - middle) / diagonal;
+  const std::array<double, 4> column_lo{box_lo.x(), box_lo.y(), box_lo.z(), -1.0};
+  const std::array<double, 4> column_hi{box_hi.x(), box_hi.y(), box_hi.z(), 1.0};
+  const std::array<double, 4> objective{0, 0, 0, -1};  // maximise the depth
+  OsiClpSolverInterface lp;
+  lp.messageHandler()->setLogLevel(0);
+  lp.loadProblem(matrix, column_lo.data(), column_hi.data(), objective.data(), row_lo.data(), row_hi.data());
+  lp.initialSolve();
+  if (!lp.isProvenOptimal()) return 0;
+  const double* x = lp.getColSolution();
+  centre = middle + diagonal * Vec3(x[0], x[1], x[2]);
+  return x[3] * diagonal;
+}
+
+/// Marks in `violated` the faces that the point in front of the most faces (least total
+/// shortfall behind their planes, crossing a face of `crossable` 0 costs 100 times more) is
+/// not in front of by a thousandth of the box diagonal.
+void least_violated_faces(const std::vector<Vec3>& points, const std::vector<Face>& faces,
+                          const std::vector<std::uint8_t>& crossable, std::vector<std::uint8_t>& violated) {
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::max()), hi = -lo;
+  for (const Face& f : faces)
+    for (const Index v : f) lo = lo.cwiseMin(points[v]), hi = hi.cwiseMax(points[v]);
+  const Vec3 middle = (lo + hi) / 2;
+  const double diagonal = (hi - lo).norm();
+  if (!(diagonal > 0)) return;
+  const int n_faces = static_cast<int>(faces.size());
+  CoinPackedMatrix matrix(false, 0, 0);
+  matrix.setDimensions(0, 3 + n_faces);
+  std::vector<double> row_hi, column_lo(3 + faces.size(), 0.0), column_hi(3 + faces.size(), COIN_DBL_MAX),
+      objective(3 + faces.size(), 0.0);
+  for (int k = 0; k < 3; ++k)
+    column_lo[k] = (lo[k] - middle[k]) / diagonal, column_hi[k] = (hi[k] - middle[k]) / diagonal;
+  for (int i = 0; i < n_faces; ++i) {
+    const Face& f = faces[static_cast<std::size_t>(i)];
+    const Vec3 a = (points[f[0]] - middle) / diagonal, b = (points[f[1]] - middle) / diagonal,
+               c = (points[f[2]] - middle) / diagonal;
+    const Vec3 normal = (b - a).cross(c - a);
+    const double length = normal.norm();
+    const Vec3 n = length > 1e-300 ? Vec3(normal / length) : Vec3::Zero();
+    const std::array<int, 4> index{0, 1, 2, 3 + i};
+    const std::array<double, 4> value{n.x(), n.y(), n.z(), -1.0};
+    matrix.appendRow(4, index.data(), value.data());
+    row_hi.push_back(n.dot(a) - 1e-3);
+    objective[static_cast<std::size_t>(3 + i)] = crossable[static_cast<std::size_t>(i)] ? 1.0 : 100.0;
+  }
+  const std::vector<double> row_lo(row_hi.size(), -COIN_DBL_MAX);
+  OsiClpSolverInterface lp;
+  lp.messageHandler()->setLogLevel(0);
+  lp.loadProblem(matrix, column_lo.data(), column_hi.data(), objective.data(), row_lo.data(), row_hi.data());
+  lp.initialSolve();
+  if (!lp.isProvenOptimal()) return;
+  const double* x = lp.getColSolution();
+  for (std::size_t i = 0; i < faces.size(); ++i)
+    if (x[3 + i] > 1e-9) violated[i] = 1;
+}
+
+double volume_of(const std::vector<Vec3>& points, const std::array<Index, 4>& t) {
+  return tet_signed_volume(points[t[0]], points[t[1]], points[t[2]], points[t[3]]);
+}
+
+}  // namespace
+
+FlippedTetRepair repair_flipped_tets(TetMesh& tets, std::vector<Vec3>& parameter, int max_rings) {
+  if (parameter.size() != tets.points.size())
+    throw InputError("repair_flipped_tets: " + std::to_string(parameter.size()) + " parameter points for " +
+                     std::to_string(tets.points.size()) + " points");
+  FlippedTetRepair result;
+  auto flipped_tets = [&] {
+    std::vector<Index> flipped;
+    for (std::size_t t = 0; t < tets.tets.size(); ++t)
+      if (!(volume_of(parameter, tets.tets[t]) > 0)) flipped.push_back(static_cast<Index>(t));
+    return flipped;
+  };
+  std::vector<Index> flipped = flipped_tets();
+  result.flipped_before = flipped.size();
+  // Passes: every cluster's cavity is cut from the mesh as it was at the pass's start, and a
+  // cavity that would reach a tet another cavity took this pass waits for the next one.
+  for (int pass = 0; pass < 8 && !flipped.empty(); ++pass) {
+    const CompressedRows tets_of_point = build_vertex_elements(tets.tets, tets.points.size());
+    std::vector<std::uint8_t> taken(tets.tets.size(), 0);       // by a cavity of this pass
+    std::vector<std::uint32_t> in_cavity(tets.tets.size(), 0);  // stamp of the cavity being grown
+    std::vector<std::uint32_t> point_seen(tets.points.size(), 0);
+    std::vector<std::uint8_t> settled(tets.tets.size(), 0);  // flipped tets of a cluster left this pass
+    std::uint32_t stamp = 0;
+    std::vector<std::array<Index, 4>> cones;
+    std::size_t repaired_this_pass = 0;
+    for (const Index seed : flipped) {
+      if (taken[seed] || settled[seed]) continue;
+      // The cluster: the flipped tets joined to the seed through shared points.
+      std::vector<Index> cavity{seed};
+      ++stamp;
+      in_cavity[seed] = stamp;
+      for (std::size_t i = 0; i < cavity.size(); ++i)
+        for (const Index v : tets.tets[cavity[i]])
+          for (const Index t : tets_of_point.row(v))
+            if (in_cavity[t] != stamp && !(volume_of(parameter, tets.tets[t]) > 0))
+              in_cavity[t] = stamp, cavity.push_back(t);
+      const std::size_t cluster_size = cavity.size();
+      bool done = false;
+      int rings = 0;
+      // Grows the cavity by one vertex ring; false at the ring limit.
+      auto grow_ring = [&] {
+        if (rings >= max_rings) return false;
+        ++rings;
+        const std::size_t before = cavity.size();
+        ++stamp;
+        for (std::size_t i = 0; i < before; ++i) in_cavity[cavity[i]] = stamp;
+        for (std::size_t i = 0; i < before; ++i)
+          for (const Index v : tets.tets[cavity[i]]) {
+            if (point_seen[v] == stamp) continue;
+            point_seen[v] = stamp;
+            for (const Index t : tets_of_point.row(v))
+              if (in_cavity[t] != stamp) in_cavity[t] = stamp, cavity.push_back(t);
+          }
+        return true;
+      };
+      // The tet across a boundary face of the cavity, or kInvalidIndex on the surface.
+      auto tet_across = [&](const Face& f) {
+        const auto r0 = tets_of_point.row(f[0]);
+        for (const Index t : r0) {
+          if (in_cavity[t] == stamp) continue;
+          const auto& q = tets.tets[t];
+          const auto holds = [&](Index v) { return std::find(q.begin(), q.end(), v) != q.end(); };
+          if (holds(f[1]) && holds(f[2])) return t;
+        }
+        return kInvalidIndex;
+      };
+      grow_ring();  // the cluster and its first vertex ring
+      for (int step = 0; step < kGrowthSteps && !done && cavity.size() <= kLargestCavity; ++step) {
+        if (std::any_of(cavity.begin(), cavity.end(), [&](Index t) { return taken[t] != 0; })) {
+          break;  // another cavity of this pass holds part of it: the next pass
+        }
+        ++stamp;
+        for (const Index t : cavity) in_cavity[t] = stamp;
+        const std::vector<Face> boundary = cavity_boundary(tets, cavity);
+        if (boundary.empty()) {  // not a closed manifold: a ring more
+          if (!grow_ring()) break;
+          continue;
+        }
+        Vec3 source_centre, parameter_centre;
+        const double source_depth = kernel_centre(tets.points, boundary, source_centre);
+        const double parameter_depth = kernel_centre(parameter, boundary, parameter_centre);
+        if (!(source_depth > 0) || !(parameter_depth > 0)) {
+          // Grow through the faces that stand in the way: those the point violating the
+          // fewest (least in sum) must stay in front of; surface faces cannot be crossed.
+          std::vector<std::uint8_t> crossable(boundary.size());
+          for (std::size_t i = 0; i < boundary.size(); ++i) crossable[i] = tet_across(boundary[i]) != kInvalidIndex;
+          std::vector<std::uint8_t> violated(boundary.size(), 0);
+          if (!(source_depth > 0)) least_violated_faces(tets.points, boundary, crossable, violated);
+          if (!(parameter_depth > 0)) least_violated_faces(parameter, boundary, crossable, violated);
+          std::size_t added = 0;
+          for (std::size_t i = 0; i < boundary.size(); ++i)
+            if (violated[i] && crossable[i])
+              if (const Index t = tet_across(boundary[i]); t != kInvalidIndex && in_cavity[t] != stamp)
+                in_cavity[t] = stamp, cavity.push_back(t), ++added;
+          if (added == 0 && !grow_ring()) break;
+          continue;
+        }
+        // The LP's tolerance: check every cone tet's volume in both domains.
+        const auto steiner = static_cast<Index>(tets.points.size());
+        tets.points.push_back(source_centre);
+        parameter.push_back(parameter_centre);
+        bool valid = true;
+        const std::size_t first_cone = cones.size();
+        for (const Face& f : boundary) {
+          const std::array<Index, 4> cone{f[0], f[2], f[1], steiner};
+          if (!(volume_of(tets.points, cone) > 0) || !(volume_of(parameter, cone) > 0)) {
+            valid = false;
+            break;
+          }
+          cones.push_back(cone);
+        }
+        if (!valid) {
+          cones.resize(first_cone);
+          tets.points.pop_back();
+          parameter.pop_back();
+          continue;
+        }
+        for (const Index t : cavity) taken[t] = 1;
+        result.removed_tets += cavity.size();
+        result.added_tets += boundary.size();
+        result.largest_cavity = std::max(result.largest_cavity, cavity.size());
+        result.largest_ring = std::max(result.largest_ring, rings);
+        ++result.cavities;
+        ++repaired_this_pass;
+        done = true;
+      }
+      if (!done)  // no cavity within max_rings, or one another cavity holds part of
+        for (std::size_t i = 0; i < cluster_size; ++i) settled[cavity[i]] = 1;
+    }
+    if (repaired_this_pass == 0) break;
+    // Cut the cavities out and put the cones in (taken slots first, then appended).
+    std::size_t next_cone = 0;
+    for (std::size_t t = 0; t < tets.tets.size() && next_cone < cones.size(); ++t)
+      if (taken[t]) tets.tets[t] = cones[next_cone++], taken[t] = 0;
+    tets.tets.insert(tets.tets.end(), cones.begin() + static_cast<std::ptrdiff_t>(next_cone), cones.end());
+    std::size_t kept = 0;
+    for (std::size_t t = 0; t < tets.tets.size(); ++t)
+      if (t >= taken.size() || !taken[t]) tets.tets[kept++] = tets.tets[t];
+    tets.tets.resize(kept);
+    flipped = flipped_tets();
+  }
+  result.flipped_after = flipped.size();
+  return result;
+}
+
+}  // namespace structmesh
