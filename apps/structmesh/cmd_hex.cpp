@@ -236,6 +236,8 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
                    {"star_cavities", result.flipped_repair.cavities},
                    {"star_cavity_tets_removed", result.flipped_repair.removed_tets},
                    {"star_cavity_tets_added", result.flipped_repair.added_tets},
+                   {"largest_star_cavity_tets", result.flipped_repair.largest_cavity},
+                   {"largest_star_cavity_rings", result.flipped_repair.largest_ring},
                    {"flipped", result.map.flipped},
                    {"grid_points_outside", result.interior_points_outside},
                    {"boundary_points_moved_to_facing_sheet", result.points_moved_to_facing_sheet},

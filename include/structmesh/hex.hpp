@@ -212,8 +212,9 @@ struct FlippedTetRepair {
 };
 
 /// The flipped tets a map's untangling leaves, repaired by re-triangulation: around each
-/// cluster of flipped tets a cavity (the cluster, grown by up to `max_rings` vertex rings) is
-/// removed and replaced by the cone from one new point over its boundary faces, placed in the
+/// cluster of flipped tets a cavity (the cluster and its first vertex ring, grown through the
+/// faces that keep its boundary from being star-shaped, or by further vertex rings, up to
+/// `max_rings` in all) is removed and replaced by the cone from one new point over its boundary faces, placed in the
 /// kernel of that boundary both in the source (`tets.points`) and in the parameter domain
 /// (`parameter`, one position per point), so every cone tet is positive in both. Where no
 /// cavity has both kernels, the cluster stays. The map on the cavities' boundaries, and so

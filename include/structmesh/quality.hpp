@@ -178,4 +178,9 @@ double volume_distortion(const TetMesh& source, const TetMesh& target);
 /// Signed volume of a tet (positive for VTK order).
 double tet_signed_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 
+/// The same for the tet `tet` with its corners in `points` (a mesh's, or a map's image).
+inline double tet_signed_volume(const std::vector<Vec3>& points, const std::array<Index, 4>& tet) {
+  return tet_signed_volume(points[tet[0]], points[tet[1]], points[tet[2]], points[tet[3]]);
+}
+
 }  // namespace structmesh

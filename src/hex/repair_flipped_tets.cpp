@@ -17,8 +17,11 @@
 // a ball that the cone fills once. Each kernel point is the Chebyshev centre of the faces'
 // inner half-spaces, an LP of 4 unknowns solved by COIN-OR CLP. The map outside C and on C's
 // boundary is unchanged, so the mesh stays conforming and the boundary points keep their
-// images. C starts as the flipped tets of the cluster and grows by vertex rings until both
-// kernels have room (an empty kernel in the image means its boundary still folds there).
+// images. C starts as the cluster's flipped tets and their first vertex ring; while a kernel
+// is empty, C grows through the boundary faces in the way (those the point behind the
+// fewest faces, found by an LP with a slack per face, is behind), or by a vertex ring when
+// none of those can be crossed. A surface face cannot be crossed: an empty kernel that only
+// surface faces block means the map's surface itself folds there, and the cluster stays.
 //
 // The points of C that are not on its boundary stay in the point list, unreferenced.
 #include "structmesh/error.hpp"
@@ -89,37 +92,59 @@ std::vector<Face> cavity_boundary(const TetMesh& tets, const std::vector<Index>&
   return boundary;
 }
 
+/// The faces' bounding box (the LPs are solved in its frame: centre at the origin, diagonal
+/// 1) and, per face in that frame, its outward unit normal n and offset n . (first corner);
+/// a degenerate face gets n = 0, offset 0 and valid = 0.
+struct FacesInBoxFrame {
+  Vec3 middle = Vec3::Zero(), box_lo = Vec3::Zero(), box_hi = Vec3::Zero();
+  double diagonal = 0;
+  std::vector<Vec3> normal;
+  std::vector<double> offset;
+  std::vector<std::uint8_t> valid;
+
+  FacesInBoxFrame(const std::vector<Vec3>& points, const std::vector<Face>& faces) {
+    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::max()), hi = -lo;
+    for (const Face& f : faces)
+      for (const Index v : f) lo = lo.cwiseMin(points[v]), hi = hi.cwiseMax(points[v]);
+    middle = (lo + hi) / 2;
+    diagonal = (hi - lo).norm();
+    if (!(diagonal > 0)) return;
+    box_lo = (lo - middle) / diagonal, box_hi = (hi - middle) / diagonal;
+    normal.resize(faces.size(), Vec3::Zero()), offset.resize(faces.size(), 0.0), valid.resize(faces.size(), 0);
+    for (std::size_t i = 0; i < faces.size(); ++i) {
+      const Face& f = faces[i];
+      const Vec3 a = (points[f[0]] - middle) / diagonal, b = (points[f[1]] - middle) / diagonal,
+                 c = (points[f[2]] - middle) / diagonal;
+      const Vec3 n = (b - a).cross(c - a);  // outward
+      const double length = n.norm();
+      if (!(length > 1e-300)) continue;
+      normal[i] = n / length, offset[i] = normal[i].dot(a), valid[i] = 1;
+    }
+  }
+};
+
 /// The point deepest inside every face's inner half-space (the Chebyshev centre of the kernel
 /// of a closed surface), within the faces' box, and its depth; depth <= 0 when the kernel is
 /// empty or flat. Solved in the box's frame (centre at the origin, diagonal 1).
 double kernel_centre(const std::vector<Vec3>& points, const std::vector<Face>& faces, Vec3& centre) {
-  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::max()), hi = -lo;
-  for (const Face& f : faces)
-    for (const Index v : f) lo = lo.cwiseMin(points[v]), hi = hi.cwiseMax(points[v]);
-  const Vec3 middle = (lo + hi) / 2;
-  const double diagonal = (hi - lo).norm();
-  if (!(diagonal > 0)) return 0;
+  const FacesInBoxFrame frame(points, faces);
+  if (!(frame.diagonal > 0)) return 0;
   CoinPackedMatrix matrix(false, 0, 0);
   matrix.setDimensions(0, 4);
   std::vector<double> row_hi;
   row_hi.reserve(faces.size());
-  for (const Face& f : faces) {
-    const Vec3 a = (points[f[0]] - middle) / diagonal, b = (points[f[1]] - middle) / diagonal,
-               c = (points[f[2]] - middle) / diagonal;
-    const Vec3 normal = (b - a).cross(c - a);  // outward
-    const double length = normal.norm();
-    if (!(length > 1e-300)) return 0;  // a degenerate face: no point is strictly in front
-    const Vec3 n = normal / length;
-    // n . s + depth <= n . a: s at least `depth` behind the face's plane.
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    if (!frame.valid[i]) return 0;  // a degenerate face: no point is strictly in front
+    const Vec3& n = frame.normal[i];
+    // n . s + depth <= offset: s at least `depth` behind the face's plane.
     const std::array<int, 4> index{0, 1, 2, 3};
     const std::array<double, 4> value{n.x(), n.y(), n.z(), 1.0};
     matrix.appendRow(4, index.data(), value.data());
-    row_hi.push_back(n.dot(a));
+    row_hi.push_back(frame.offset[i]);
   }
   const std::vector<double> row_lo(row_hi.size(), -COIN_DBL_MAX);
-  const Vec3 box_lo = (lo - middle) / diagonal, box_hi = (hi - middle) / diagonal;
-  const std::array<double, 4> column_lo{box_lo.x(), box_lo.y(), box_lo.z(), -1.0};
-  const std::array<double, 4> column_hi{box_hi.x(), box_hi.y(), box_hi.z(), 1.0};
+  const std::array<double, 4> column_lo{frame.box_lo.x(), frame.box_lo.y(), frame.box_lo.z(), -1.0};
+  const std::array<double, 4> column_hi{frame.box_hi.x(), frame.box_hi.y(), frame.box_hi.z(), 1.0};
   const std::array<double, 4> objective{0, 0, 0, -1};  // maximise the depth
   OsiClpSolverInterface lp;
   lp.messageHandler()->setLogLevel(0);
@@ -127,8 +152,8 @@ double kernel_centre(const std::vector<Vec3>& points, const std::vector<Face>& f
   lp.initialSolve();
   if (!lp.isProvenOptimal()) return 0;
   const double* x = lp.getColSolution();
-  centre = middle + diagonal * Vec3(x[0], x[1], x[2]);
-  return x[3] * diagonal;
+  centre = frame.middle + frame.diagonal * Vec3(x[0], x[1], x[2]);
+  return x[3] * frame.diagonal;
 }
 
 /// Marks in `violated` the faces that the point in front of the most faces (least total
@@ -136,30 +161,21 @@ double kernel_centre(const std::vector<Vec3>& points, const std::vector<Face>& f
 /// not in front of by a thousandth of the box diagonal.
 void least_violated_faces(const std::vector<Vec3>& points, const std::vector<Face>& faces,
                           const std::vector<std::uint8_t>& crossable, std::vector<std::uint8_t>& violated) {
-  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::max()), hi = -lo;
-  for (const Face& f : faces)
-    for (const Index v : f) lo = lo.cwiseMin(points[v]), hi = hi.cwiseMax(points[v]);
-  const Vec3 middle = (lo + hi) / 2;
-  const double diagonal = (hi - lo).norm();
-  if (!(diagonal > 0)) return;
+  const FacesInBoxFrame frame(points, faces);
+  if (!(frame.diagonal > 0)) return;
   const int n_faces = static_cast<int>(faces.size());
   CoinPackedMatrix matrix(false, 0, 0);
   matrix.setDimensions(0, 3 + n_faces);
   std::vector<double> row_hi, column_lo(3 + faces.size(), 0.0), column_hi(3 + faces.size(), COIN_DBL_MAX),
       objective(3 + faces.size(), 0.0);
-  for (int k = 0; k < 3; ++k)
-    column_lo[k] = (lo[k] - middle[k]) / diagonal, column_hi[k] = (hi[k] - middle[k]) / diagonal;
+  for (int k = 0; k < 3; ++k) column_lo[k] = frame.box_lo[k], column_hi[k] = frame.box_hi[k];
   for (int i = 0; i < n_faces; ++i) {
-    const Face& f = faces[static_cast<std::size_t>(i)];
-    const Vec3 a = (points[f[0]] - middle) / diagonal, b = (points[f[1]] - middle) / diagonal,
-               c = (points[f[2]] - middle) / diagonal;
-    const Vec3 normal = (b - a).cross(c - a);
-    const double length = normal.norm();
-    const Vec3 n = length > 1e-300 ? Vec3(normal / length) : Vec3::Zero();
+    // A degenerate face (zero normal) is always in the way: its row forces its slack to 1e-3.
+    const Vec3& n = frame.normal[static_cast<std::size_t>(i)];
     const std::array<int, 4> index{0, 1, 2, 3 + i};
     const std::array<double, 4> value{n.x(), n.y(), n.z(), -1.0};
     matrix.appendRow(4, index.data(), value.data());
-    row_hi.push_back(n.dot(a) - 1e-3);
+    row_hi.push_back(frame.offset[static_cast<std::size_t>(i)] - 1e-3);
     objective[static_cast<std::size_t>(3 + i)] = crossable[static_cast<std::size_t>(i)] ? 1.0 : 100.0;
   }
   const std::vector<double> row_lo(row_hi.size(), -COIN_DBL_MAX);
@@ -173,10 +189,6 @@ void least_violated_faces(const std::vector<Vec3>& points, const std::vector<Fac
     if (x[3 + i] > 1e-9) violated[i] = 1;
 }
 
-double volume_of(const std::vector<Vec3>& points, const std::array<Index, 4>& t) {
-  return tet_signed_volume(points[t[0]], points[t[1]], points[t[2]], points[t[3]]);
-}
-
 }  // namespace
 
 FlippedTetRepair repair_flipped_tets(TetMesh& tets, std::vector<Vec3>& parameter, int max_rings) {
@@ -187,7 +199,7 @@ FlippedTetRepair repair_flipped_tets(TetMesh& tets, std::vector<Vec3>& parameter
   auto flipped_tets = [&] {
     std::vector<Index> flipped;
     for (std::size_t t = 0; t < tets.tets.size(); ++t)
-      if (!(volume_of(parameter, tets.tets[t]) > 0)) flipped.push_back(static_cast<Index>(t));
+      if (!(tet_signed_volume(parameter, tets.tets[t]) > 0)) flipped.push_back(static_cast<Index>(t));
     return flipped;
   };
   std::vector<Index> flipped = flipped_tets();
@@ -212,7 +224,7 @@ FlippedTetRepair repair_flipped_tets(TetMesh& tets, std::vector<Vec3>& parameter
       for (std::size_t i = 0; i < cavity.size(); ++i)
         for (const Index v : tets.tets[cavity[i]])
           for (const Index t : tets_of_point.row(v))
-            if (in_cavity[t] != stamp && !(volume_of(parameter, tets.tets[t]) > 0))
+            if (in_cavity[t] != stamp && !(tet_signed_volume(parameter, tets.tets[t]) > 0))
               in_cavity[t] = stamp, cavity.push_back(t);
       const std::size_t cluster_size = cavity.size();
       bool done = false;
@@ -283,17 +295,17 @@ FlippedTetRepair repair_flipped_tets(TetMesh& tets, std::vector<Vec3>& parameter
         const std::size_t first_cone = cones.size();
         for (const Face& f : boundary) {
           const std::array<Index, 4> cone{f[0], f[2], f[1], steiner};
-          if (!(volume_of(tets.points, cone) > 0) || !(volume_of(parameter, cone) > 0)) {
+          if (!(tet_signed_volume(tets.points, cone) > 0) || !(tet_signed_volume(parameter, cone) > 0)) {
             valid = false;
             break;
           }
           cones.push_back(cone);
         }
-        if (!valid) {
+        if (!valid) {  // the same cavity would fail the same way at the next step
           cones.resize(first_cone);
           tets.points.pop_back();
           parameter.pop_back();
-          continue;
+          break;
         }
         for (const Index t : cavity) taken[t] = 1;
         result.removed_tets += cavity.size();

@@ -104,10 +104,6 @@ TriangleKey sorted_key(Index a, Index b, Index c) {
   return {v};
 }
 
-double tet_volume(const std::vector<Vec3>& points, const std::array<Index, 4>& t) {
-  return tet_signed_volume(points[t[0]], points[t[1]], points[t[2]], points[t[3]]);
-}
-
 }  // namespace
 
 VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source, const TriMesh& boundary_target,
@@ -274,7 +270,7 @@ VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source
         tbb::blocked_range<std::size_t>(0, tet_count, 4096), std::size_t{0},
         [&](const tbb::blocked_range<std::size_t>& range, std::size_t flipped) {
           for (std::size_t t = range.begin(); t != range.end(); ++t) {
-            volume[t] = tet_volume(result.parameter, tets.tets[t]);
+            volume[t] = tet_signed_volume(result.parameter, tets.tets[t]);
             if (!(volume[t] > 0)) ++flipped;
           }
           return flipped;
@@ -288,7 +284,7 @@ VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source
   std::vector<double> beta(tet_count);
   double source_total = 0, target_total = 0;
   for (std::size_t t = 0; t < tet_count; ++t) {
-    beta[t] = std::abs(tet_volume(tets.points, tets.tets[t]));
+    beta[t] = std::abs(tet_signed_volume(tets.points, tets.tets[t]));
     source_total += beta[t];
     target_total += volume[t];
   }
@@ -351,7 +347,7 @@ VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source
       next_active = active;
       for (const Index t : touched_tets) {
         const bool was_flipped = !(volume[t] > 0);
-        volume[t] = tet_volume(result.parameter, tets.tets[t]);
+        volume[t] = tet_signed_volume(result.parameter, tets.tets[t]);
         change += static_cast<std::ptrdiff_t>(!(volume[t] > 0)) - static_cast<std::ptrdiff_t>(was_flipped);
         const std::uint8_t now_low = !(volume[t] > beta[t]) ? 1 : 0;
         if (now_low == low[t]) continue;

@@ -1,5 +1,6 @@
 // repair_flipped_tets(): cavities around flipped tets re-triangulated as stars, valid in both
 // the source and the parameter domain.
+#include "hex/map_test_helpers.hpp"
 #include "polycube/shapes.hpp"
 #include "structmesh/error.hpp"
 #include "structmesh/hex.hpp"
@@ -17,22 +18,12 @@
 namespace structmesh {
 namespace {
 
-TetMesh solid(const TriMesh& surface) {
-  TetmeshOptions options;
-  options.size = 0.25;
-  return tetrahedralize(surface, options).mesh;
-}
-
-std::size_t flipped(const TetMesh& tets, const std::vector<Vec3>& points) {
-  std::size_t count = 0;
-  for (const auto& t : tets.tets)
-    if (!(tet_signed_volume(points[t[0]], points[t[1]], points[t[2]], points[t[3]]) > 0)) ++count;
-  return count;
-}
+using test::flipped;
+using test::solid;
 
 double total_volume(const TetMesh& tets, const std::vector<Vec3>& points) {
   double sum = 0;
-  for (const auto& t : tets.tets) sum += tet_signed_volume(points[t[0]], points[t[1]], points[t[2]], points[t[3]]);
+  for (const auto& t : tets.tets) sum += tet_signed_volume(points, t);
   return sum;
 }
 

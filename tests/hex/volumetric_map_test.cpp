@@ -1,4 +1,5 @@
 // volumetric_map(): the least squares (5.1) with a smooth frame field, boundary pinned.
+#include "hex/map_test_helpers.hpp"
 #include "polycube/shapes.hpp"
 #include "structmesh/error.hpp"
 #include "structmesh/hex.hpp"
@@ -16,22 +17,12 @@
 namespace structmesh {
 namespace {
 
-TetMesh solid(const TriMesh& surface) {
-  TetmeshOptions options;
-  options.size = 0.25;
-  return tetrahedralize(surface, options).mesh;
-}
+using test::flipped;
+using test::solid;
 
 TriMesh mapped(TriMesh surface, const auto& f) {
   for (Vec3& p : surface.points) p = f(p);
   return surface;
-}
-
-std::size_t flipped(const TetMesh& tets, const std::vector<Vec3>& points) {
-  std::size_t count = 0;
-  for (const auto& t : tets.tets)
-    if (!(tet_signed_volume(points[t[0]], points[t[1]], points[t[2]], points[t[3]]) > 0)) ++count;
-  return count;
 }
 
 TEST(VolumetricMap, IdentityAndRigidMotionsAreReproducedExactly) {
