@@ -2,6 +2,8 @@
 // named on the command line, in name order.
 #pragma once
 
+#include "structmesh/tetmesh.hpp"
+
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -31,6 +33,11 @@ inline std::vector<std::filesystem::path> surface_models(int argc, char** argv) 
       models.push_back(entry.path());
   std::sort(models.begin(), models.end());
   return models;
+}
+
+/// What `--repair` did to a surface, for a table's row: "2 holes closed", ", turned outward".
+inline std::string repair_label(const SurfaceRepair& repair) {
+  return std::to_string(repair.holes) + " holes closed" + (repair.turned ? ", turned outward" : "");
 }
 
 }  // namespace structmesh::bench

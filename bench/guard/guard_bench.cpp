@@ -134,8 +134,7 @@ int main(int argc, char** argv) {
       if (!check_surface(to_bundle(surface)).valid_solid_boundary) {
         const SurfaceRepair repair = repair_solid_surface(surface);
         options.allow_self_intersections = true;
-        repaired =
-            " (repaired: " + std::to_string(repair.holes) + " holes closed" + (repair.turned ? ", turned outward" : "");
+        repaired = " (repaired: " + bench::repair_label(repair);
       }
       const auto start = std::chrono::steady_clock::now();
       const GuardResult r = guard_surface(surface, options);

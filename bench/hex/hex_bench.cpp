@@ -73,8 +73,7 @@ int main(int argc, char** argv) {
       std::string label = name;
       if (!check_surface(to_bundle(surface)).valid_solid_boundary) {
         const SurfaceRepair repair = repair_solid_surface(surface);
-        const std::string what =
-            std::to_string(repair.holes) + " holes closed" + (repair.turned ? ", turned outward" : "");
+        const std::string what = bench::repair_label(repair);
         const SurfaceReport after = check_surface(to_bundle(surface));
         if (!after.valid_solid_boundary) {
           std::printf("| %s | %zu | not a solid boundary, also after --repair (%s):%s; skipped |||||||||||||||| %s |\n",
