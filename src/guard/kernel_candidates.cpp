@@ -1,15 +1,16 @@
 // kernel_candidates(): see kernel_candidates.hpp. The two small linear programs per pair
-// (4 and 6 unknowns, one row per face) are solved by COIN-OR CLP, the LP solver under CBC.
+// (4 and 6 unknowns, one row per face; lp/small_lp.hpp) are solved by COIN-OR CLP, the LP
+// solver under CBC.
 #include "guard/kernel_candidates.hpp"
 
-#include <CoinPackedMatrix.hpp>
+#include "lp/small_lp.hpp"
+
+#include <CoinFinite.hpp>
 #include <Eigen/Geometry>
-#include <OsiClpSolverInterface.hpp>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <initializer_list>
 #include <limits>
 #include <utility>
 
@@ -17,70 +18,11 @@ namespace structmesh::guard_detail {
 
 namespace {
 
-struct Plane {
-  Vec3 normal;    // unit, outward
-  double offset;  // normal . x on the face
-  double weight;  // the face's area
-};
-
-// One small LP for CLP: minimise objective . x subject to rows "a . x <= upper" and
-// bounds on x, whose first three entries are the point sought.
-class SmallLp {
- public:
-  void add_column(double lo, double hi, double cost) {
-    column_lo_.push_back(lo), column_hi_.push_back(hi), objective_.push_back(cost);
-  }
-  void add_row(std::initializer_list<int> index, std::initializer_list<double> value, double upper) {
-    rows_.emplace_back(std::vector<int>(index), std::vector<double>(value));
-    row_hi_.push_back(upper);
-  }
-  void add_plane_row(const Plane& plane, int extra_column, double extra_value, double upper) {
-    if (extra_column < 0)
-      add_row({0, 1, 2}, {plane.normal.x(), plane.normal.y(), plane.normal.z()}, upper);
-    else
-      add_row({0, 1, 2, extra_column}, {plane.normal.x(), plane.normal.y(), plane.normal.z(), extra_value}, upper);
-  }
-  /// The optimal x, or empty when CLP finds none.
-  std::vector<double> solve() const {
-    CoinPackedMatrix matrix(false, 0, 0);
-    matrix.setDimensions(0, static_cast<int>(column_lo_.size()));
-    for (const auto& [index, value] : rows_)
-      matrix.appendRow(static_cast<int>(index.size()), index.data(), value.data());
-    const std::vector<double> row_lo(row_hi_.size(), -COIN_DBL_MAX);
-    OsiClpSolverInterface lp;
-    lp.messageHandler()->setLogLevel(0);
-    lp.loadProblem(matrix, column_lo_.data(), column_hi_.data(), objective_.data(), row_lo.data(), row_hi_.data());
-    lp.initialSolve();
-    if (!lp.isProvenOptimal()) return {};
-    const double* x = lp.getColSolution();
-    return {x, x + column_lo_.size()};
-  }
-
- private:
-  std::vector<std::pair<std::vector<int>, std::vector<double>>> rows_;
-  std::vector<double> row_hi_, column_lo_, column_hi_, objective_;
-};
-
-// Columns x, y, z bounded by the box [lo, hi], of no cost.
-SmallLp point_in_box(const Vec3& lo, const Vec3& hi) {
-  SmallLp lp;
-  for (int k = 0; k < 3; ++k) lp.add_column(lo[k], hi[k], 0);
-  return lp;
-}
-
-// Maximise r subject to n_f . p + r <= offset_f and p in [lo, hi]: the Chebyshev centre.
-// Returns false when the LP fails; depth gets r.
-bool chebyshev_centre(const std::vector<Plane>& planes, const Vec3& lo, const Vec3& hi, Vec3& centre, double& depth) {
-  SmallLp lp = point_in_box(lo, hi);
-  const double size = (hi - lo).norm();
-  lp.add_column(-size, size, -1);
-  for (const Plane& plane : planes) lp.add_plane_row(plane, 3, 1.0, plane.offset);
-  const std::vector<double> x = lp.solve();
-  if (x.empty()) return false;
-  centre = Vec3(x[0], x[1], x[2]);
-  depth = x[3];
-  return true;
-}
+using lp::chebyshev_centre;
+using lp::least_violating_point;
+using lp::Plane;
+using lp::point_in_box;
+using lp::SmallLp;
 
 // The point p of {n_f . p <= offset_f - margin} within [lo, hi] nearest to `target` in L1.
 bool nearest_kernel_point(const std::vector<Plane>& planes, double margin, const Vec3& lo, const Vec3& hi,
@@ -98,23 +40,8 @@ bool nearest_kernel_point(const std::vector<Plane>& planes, double margin, const
   return true;
 }
 
-// The point p within [lo, hi] that minimises sum_f area_f max(0, n_f . p - offset_f + margin):
-// where the kernel is empty, the point on the wrong side of the least face area.
-bool least_violating_point(const std::vector<Plane>& planes, double margin, const Vec3& lo, const Vec3& hi,
-                           Vec3& point) {
-  SmallLp lp = point_in_box(lo, hi);
-  for (std::size_t f = 0; f < planes.size(); ++f) {
-    lp.add_column(0, COIN_DBL_MAX, planes[f].weight);  // the plane's excess
-    lp.add_plane_row(planes[f], static_cast<int>(3 + f), -1.0, planes[f].offset - margin);
-  }
-  const std::vector<double> x = lp.solve();
-  if (x.empty()) return false;
-  point = Vec3(x[0], x[1], x[2]);
-  return true;
-}
-
-// The LPs above have one row per face: up to 10k on a pair of a 50k-face model, 0.2 s for
-// CLP each. Few rows bind at the optimum, so each LP is solved on a subset (kStartRows
+// The LPs (chebyshev_centre, nearest_kernel_point, least_violating_point) have one row per face: up to 10k on a pair of
+// a 50k-face model, 0.2 s for CLP each. Few rows bind at the optimum, so each LP is solved on a subset (kStartRows
 // spread over the list), and the rows its answer violates are added, the worst
 // kAddedRows at a time, until it violates none (or after kRounds: the answer is a
 // candidate only, which the caller's visibility test decides).

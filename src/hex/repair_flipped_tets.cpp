@@ -28,8 +28,7 @@
 #include "structmesh/hex.hpp"
 #include "structmesh/quality.hpp"
 
-#include <CoinPackedMatrix.hpp>
-#include <OsiClpSolverInterface.hpp>
+#include "lp/small_lp.hpp"
 
 #include <algorithm>
 #include <array>
@@ -93,13 +92,12 @@ std::vector<Face> cavity_boundary(const TetMesh& tets, const std::vector<Index>&
 }
 
 /// The faces' bounding box (the LPs are solved in its frame: centre at the origin, diagonal
-/// 1) and, per face in that frame, its outward unit normal n and offset n . (first corner);
-/// a degenerate face gets n = 0, offset 0 and valid = 0.
+/// 1) and, per face in that frame, its plane (outward unit normal n, offset n . first
+/// corner); a degenerate face gets n = 0, offset 0 and valid = 0.
 struct FacesInBoxFrame {
   Vec3 middle = Vec3::Zero(), box_lo = Vec3::Zero(), box_hi = Vec3::Zero();
   double diagonal = 0;
-  std::vector<Vec3> normal;
-  std::vector<double> offset;
+  std::vector<lp::Plane> planes;
   std::vector<std::uint8_t> valid;
 
   FacesInBoxFrame(const std::vector<Vec3>& points, const std::vector<Face>& faces) {
@@ -110,7 +108,8 @@ struct FacesInBoxFrame {
     diagonal = (hi - lo).norm();
     if (!(diagonal > 0)) return;
     box_lo = (lo - middle) / diagonal, box_hi = (hi - middle) / diagonal;
-    normal.resize(faces.size(), Vec3::Zero()), offset.resize(faces.size(), 0.0), valid.resize(faces.size(), 0);
+    planes.assign(faces.size(), lp::Plane{Vec3::Zero(), 0.0, 1.0});
+    valid.assign(faces.size(), 0);
     for (std::size_t i = 0; i < faces.size(); ++i) {
       const Face& f = faces[i];
       const Vec3 a = (points[f[0]] - middle) / diagonal, b = (points[f[1]] - middle) / diagonal,
@@ -118,75 +117,38 @@ struct FacesInBoxFrame {
       const Vec3 n = (b - a).cross(c - a);  // outward
       const double length = n.norm();
       if (!(length > 1e-300)) continue;
-      normal[i] = n / length, offset[i] = normal[i].dot(a), valid[i] = 1;
+      planes[i].normal = n / length, planes[i].offset = planes[i].normal.dot(a), valid[i] = 1;
     }
   }
 };
 
 /// The point deepest inside every face's inner half-space (the Chebyshev centre of the kernel
 /// of a closed surface), within the faces' box, and its depth; depth <= 0 when the kernel is
-/// empty or flat. Solved in the box's frame (centre at the origin, diagonal 1).
+/// empty or flat, or a face is degenerate (no point is strictly in front of it).
 double kernel_centre(const std::vector<Vec3>& points, const std::vector<Face>& faces, Vec3& centre) {
   const FacesInBoxFrame frame(points, faces);
-  if (!(frame.diagonal > 0)) return 0;
-  CoinPackedMatrix matrix(false, 0, 0);
-  matrix.setDimensions(0, 4);
-  std::vector<double> row_hi;
-  row_hi.reserve(faces.size());
-  for (std::size_t i = 0; i < faces.size(); ++i) {
-    if (!frame.valid[i]) return 0;  // a degenerate face: no point is strictly in front
-    const Vec3& n = frame.normal[i];
-    // n . s + depth <= offset: s at least `depth` behind the face's plane.
-    const std::array<int, 4> index{0, 1, 2, 3};
-    const std::array<double, 4> value{n.x(), n.y(), n.z(), 1.0};
-    matrix.appendRow(4, index.data(), value.data());
-    row_hi.push_back(frame.offset[i]);
-  }
-  const std::vector<double> row_lo(row_hi.size(), -COIN_DBL_MAX);
-  const std::array<double, 4> column_lo{frame.box_lo.x(), frame.box_lo.y(), frame.box_lo.z(), -1.0};
-  const std::array<double, 4> column_hi{frame.box_hi.x(), frame.box_hi.y(), frame.box_hi.z(), 1.0};
-  const std::array<double, 4> objective{0, 0, 0, -1};  // maximise the depth
-  OsiClpSolverInterface lp;
-  lp.messageHandler()->setLogLevel(0);
-  lp.loadProblem(matrix, column_lo.data(), column_hi.data(), objective.data(), row_lo.data(), row_hi.data());
-  lp.initialSolve();
-  if (!lp.isProvenOptimal()) return 0;
-  const double* x = lp.getColSolution();
-  centre = frame.middle + frame.diagonal * Vec3(x[0], x[1], x[2]);
-  return x[3] * frame.diagonal;
+  if (!(frame.diagonal > 0) || std::find(frame.valid.begin(), frame.valid.end(), 0) != frame.valid.end()) return 0;
+  Vec3 at;
+  double depth = 0;
+  if (!lp::chebyshev_centre(frame.planes, frame.box_lo, frame.box_hi, at, depth)) return 0;
+  centre = frame.middle + frame.diagonal * at;
+  return depth * frame.diagonal;
 }
 
 /// Marks in `violated` the faces that the point in front of the most faces (least total
 /// shortfall behind their planes, crossing a face of `crossable` 0 costs 100 times more) is
-/// not in front of by a thousandth of the box diagonal.
+/// not in front of by a thousandth of the box diagonal. A degenerate face (zero normal) is
+/// always in the way: its row forces its shortfall to 1e-3.
 void least_violated_faces(const std::vector<Vec3>& points, const std::vector<Face>& faces,
                           const std::vector<std::uint8_t>& crossable, std::vector<std::uint8_t>& violated) {
-  const FacesInBoxFrame frame(points, faces);
+  FacesInBoxFrame frame(points, faces);
   if (!(frame.diagonal > 0)) return;
-  const int n_faces = static_cast<int>(faces.size());
-  CoinPackedMatrix matrix(false, 0, 0);
-  matrix.setDimensions(0, 3 + n_faces);
-  std::vector<double> row_hi, column_lo(3 + faces.size(), 0.0), column_hi(3 + faces.size(), COIN_DBL_MAX),
-      objective(3 + faces.size(), 0.0);
-  for (int k = 0; k < 3; ++k) column_lo[k] = frame.box_lo[k], column_hi[k] = frame.box_hi[k];
-  for (int i = 0; i < n_faces; ++i) {
-    // A degenerate face (zero normal) is always in the way: its row forces its slack to 1e-3.
-    const Vec3& n = frame.normal[static_cast<std::size_t>(i)];
-    const std::array<int, 4> index{0, 1, 2, 3 + i};
-    const std::array<double, 4> value{n.x(), n.y(), n.z(), -1.0};
-    matrix.appendRow(4, index.data(), value.data());
-    row_hi.push_back(frame.offset[static_cast<std::size_t>(i)] - 1e-3);
-    objective[static_cast<std::size_t>(3 + i)] = crossable[static_cast<std::size_t>(i)] ? 1.0 : 100.0;
-  }
-  const std::vector<double> row_lo(row_hi.size(), -COIN_DBL_MAX);
-  OsiClpSolverInterface lp;
-  lp.messageHandler()->setLogLevel(0);
-  lp.loadProblem(matrix, column_lo.data(), column_hi.data(), objective.data(), row_lo.data(), row_hi.data());
-  lp.initialSolve();
-  if (!lp.isProvenOptimal()) return;
-  const double* x = lp.getColSolution();
+  for (std::size_t i = 0; i < faces.size(); ++i) frame.planes[i].weight = crossable[i] ? 1.0 : 100.0;
+  Vec3 point;
+  std::vector<double> excess;
+  if (!lp::least_violating_point(frame.planes, 1e-3, frame.box_lo, frame.box_hi, point, &excess)) return;
   for (std::size_t i = 0; i < faces.size(); ++i)
-    if (x[3 + i] > 1e-9) violated[i] = 1;
+    if (excess[i] > 1e-9) violated[i] = 1;
 }
 
 }  // namespace
