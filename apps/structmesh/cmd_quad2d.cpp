@@ -81,6 +81,7 @@ nlohmann::json report_json(const Quad2dResult& result, const Quad2dSettings& set
             {"untangled", r.paving.untangled},
             {"mapped_parts", r.paving.mapped},
             {"polar_parts", r.paving.polar},
+            {"unplanned_block_parts", r.paving.unplanned_blocks},
             {"retried_parts", r.paving.retries},
             {"cleanup_operations", r.paving.cleanup_operations},
             {"grid_interior_quads", r.paving.grid_interior_quads}}},

@@ -48,6 +48,10 @@ struct PavingStats {
   std::size_t untangled = 0;       // zones of inverted quads made valid by untangle_quads()
   std::size_t mapped = 0;          // parts meshed as a structured grid (mapped_mesh), not paved
   std::size_t polar = 0;           // parts meshed as polar blocks (polar_mesh)
+  /// Of those, parts whose blocks the interval assignment had not planned or that failed
+  /// the quality check as planned: polar blocks chosen for their fixed counts
+  /// (polar_block_candidates) instead of paving.
+  std::size_t unplanned_blocks = 0;
   /// 1 when the first run failed (a quad it could not untangle, a loop nothing closed)
   /// and a run with a slightly different target size gave this mesh.
   std::size_t retries = 0;
@@ -88,7 +92,8 @@ struct MappedMeshOptions {
 /// (corners[2]-corners[1]) == (n - corners[3] + corners[0]). Returns the grid (input points first,
 /// bit-identical, in input order, then interior points; counter-clockwise quads, every boundary edge
 /// in exactly one quad), or std::nullopt when the map folds or a quad's scaled Jacobian stays below
-/// options.min_scaled_jacobian after smoothing. InputError for inconsistent corners.
+/// options.min_scaled_jacobian after smoothing and an optimisation of the best smoothed grid.
+/// InputError for inconsistent corners.
 std::optional<PavedPart> mapped_mesh(const Polygon2& boundary, const std::array<std::size_t, 4>& corners,
                                      const MappedMeshOptions& options = {});
 
@@ -112,6 +117,18 @@ struct PolarBlocks {
 /// inconsistent blocks.
 std::optional<PavedPart> polar_mesh(const Polygon2& boundary, const PolarBlocks& blocks,
                                     const MappedMeshOptions& options = {});
+
+/// Polar layouts that fit a part's boundary as it is sampled (its point count fixed and
+/// even, one loop), for the parts the interval assignment gave no layout or whose layout
+/// failed polar_mesh()'s quality check. Corners are where the loop turns by more than
+/// 30° (over consecutive points bent by more than 10° each, at the sharpest of them);
+/// with k of them (odd, 3 <= k <= 7, chosen from the 7 sharpest; none for a part with
+/// more than 8) side i has r_{i-1} + r_{i+1} points, which fixes the chord counts r.
+/// A corner set whose r are not positive integers is tried with one corner moved by one
+/// point. Layouts come best first by the turn of the corners they leave out plus the
+/// chords' deviation from their length to the centroid; at most `max_candidates`; empty
+/// for a part with holes, an odd loop or fewer than 3 corners.
+std::vector<PolarBlocks> polar_block_candidates(const Polygon2& boundary, std::size_t max_candidates = 3);
 
 // ---------------------------------------------------------------------------
 // Boundary sampling shared by neighbouring parts

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -103,6 +104,115 @@ TEST(PolarMesh, CentreOutsideGivesNothing) {
   ASSERT_GT(signed_area(polygon.ring(0)), 0);
   const std::optional<PavedPart> part = polar_mesh(polygon, regular_blocks(5, per_side));
   if (part) expect_valid_polar(polygon, *part, 5);  // if meshed at all, then validly
+}
+
+// A polygon through `corners` (counter-clockwise) with counts[i] segments on side i.
+Polygon2 sampled_polygon(const std::vector<Vec2>& corners, const std::vector<int>& counts) {
+  std::vector<Vec2> ring;
+  for (std::size_t i = 0; i < corners.size(); ++i)
+    for (int j = 0; j < counts[i]; ++j)
+      ring.push_back(corners[i] + (corners[(i + 1) % corners.size()] - corners[i]) * (double(j) / counts[i]));
+  Polygon2 polygon;
+  polygon.add_ring(ring);
+  return polygon;
+}
+
+// Every layout's counts hold: side i has r_{i-1} + r_{i+1} points, split at r_{i-1}.
+void expect_consistent_layout(const PolarBlocks& blocks, std::int64_t n) {
+  const std::size_t k = blocks.corners.size();
+  ASSERT_GE(k, 3U);
+  ASSERT_EQ(k % 2, 1U);
+  ASSERT_EQ(blocks.splits.size(), k);
+  ASSERT_EQ(blocks.chord_segments.size(), k);
+  for (std::size_t i = 0; i < k; ++i) {
+    const std::int64_t next = i + 1 < k ? blocks.corners[i + 1] : blocks.corners[0] + n;
+    ASSERT_LT(blocks.corners[i], next);
+    const Index before = blocks.chord_segments[(i + k - 1) % k], after = blocks.chord_segments[(i + 1) % k];
+    EXPECT_GE(blocks.chord_segments[i], 1U);
+    EXPECT_EQ(next - blocks.corners[i], static_cast<std::int64_t>(before + after)) << "side " << i;
+    EXPECT_EQ((blocks.splits[i] - blocks.corners[i] + n) % n, static_cast<std::int64_t>(before)) << "split " << i;
+  }
+}
+
+TEST(PolarBlockCandidates, PentagonGetsItsFiveCornersFirst) {
+  const Polygon2 pentagon = regular_polygon(5, 8);
+  const std::vector<PolarBlocks> layouts = polar_block_candidates(pentagon, 3);
+  ASSERT_FALSE(layouts.empty());
+  for (const PolarBlocks& blocks : layouts) expect_consistent_layout(blocks, 40);
+  // No corner left out: the five corners themselves, every chord 4 segments.
+  EXPECT_EQ(layouts[0].corners, (std::vector<std::int64_t>{0, 8, 16, 24, 32}));
+  EXPECT_EQ(layouts[0].chord_segments, (std::vector<Index>{4, 4, 4, 4, 4}));
+  const std::optional<PavedPart> part = polar_mesh(pentagon, layouts[0]);
+  ASSERT_TRUE(part.has_value());
+  expect_valid_polar(pentagon, *part, 5);
+}
+
+TEST(PolarBlockCandidates, UnmatchedRectangleGetsThreeBlocks) {
+  // Opposite sides with 12 and 10, 7 and 9 points: no grid, but three corners of the
+  // four (or one moved by a point) give integer chords.
+  const Polygon2 rectangle = sampled_polygon({{0, 0}, {2, 0}, {2, 1.4}, {0, 1.4}}, {12, 7, 10, 9});
+  const std::vector<PolarBlocks> layouts = polar_block_candidates(rectangle, 5);
+  ASSERT_FALSE(layouts.empty());
+  const std::vector<std::int64_t> corners{0, 12, 19, 29};
+  for (const PolarBlocks& blocks : layouts) {
+    expect_consistent_layout(blocks, 38);
+    EXPECT_EQ(blocks.corners.size(), 3U);
+    for (const std::int64_t c : blocks.corners) {
+      const bool near_corner = std::any_of(corners.begin(), corners.end(), [&](std::int64_t k) {
+        const std::int64_t d = std::abs(c - k);
+        return std::min(d, 38 - d) <= 1;
+      });
+      EXPECT_TRUE(near_corner) << "corner " << c;
+    }
+    // Whatever polar_mesh makes of it is valid.
+    const std::optional<PavedPart> part = polar_mesh(rectangle, blocks);
+    if (part) expect_valid_polar(rectangle, *part, 3);
+  }
+}
+
+TEST(PolarBlockCandidates, RoundedCornerIsOneCorner) {
+  // A pentagon-like part whose corner at (4, 0) is cut by a short chamfer: two points
+  // turning by about 45° each, one corner between them, not two.
+  const Polygon2 part =
+      sampled_polygon({{0, 0}, {3.8, 0}, {4, 0.2}, {4, 3}, {2, 4.5}, {0, 3}}, {19, 1, 14, 12, 12, 16});
+  const std::int64_t n = static_cast<std::int64_t>(part.points.size());
+  ASSERT_EQ(n % 2, 0);
+  const std::vector<PolarBlocks> layouts = polar_block_candidates(part, 3);
+  ASSERT_FALSE(layouts.empty());
+  for (const PolarBlocks& blocks : layouts) {
+    expect_consistent_layout(blocks, n);
+    const auto at = [&](std::int64_t i) {
+      return std::find(blocks.corners.begin(), blocks.corners.end(), i) != blocks.corners.end();
+    };
+    EXPECT_FALSE(at(19) && at(20)) << "both ends of the chamfer taken as corners";
+  }
+  // Five corners (chamfer, three others, the origin): the first layout takes them all.
+  EXPECT_EQ(layouts[0].corners.size(), 5U);
+}
+
+TEST(PolarBlockCandidates, NoLayoutWithoutCornersOrWithHolesOrAnOddLoop) {
+  // A circle turns by 9° per point: no corner.
+  EXPECT_TRUE(polar_block_candidates(regular_polygon(40, 1), 3).empty());
+  // A ring (a hole).
+  Polygon2 annulus = regular_polygon(4, 6);
+  std::vector<Vec2> hole;
+  for (int i = 0; i < 8; ++i)
+    hole.emplace_back(0.3 * std::cos(-i * std::numbers::pi / 4), 0.3 * std::sin(-i * std::numbers::pi / 4));
+  annulus.add_ring(hole);
+  EXPECT_TRUE(polar_block_candidates(annulus, 3).empty());
+  // An odd number of points.
+  EXPECT_TRUE(polar_block_candidates(sampled_polygon({{0, 0}, {1, 0}, {0.5, 1}}, {5, 5, 5}), 3).empty());
+  // A comb with 12 corners: more than a polar layout takes.
+  std::vector<Vec2> comb{{0, 0}, {6, 0}, {6, 2}};
+  for (int t = 5; t >= 1; --t) {
+    comb.emplace_back(t + 0.5, 2);
+    comb.emplace_back(t + 0.5, 1);
+    comb.emplace_back(t, 1);
+    comb.emplace_back(t, 2);
+  }
+  comb.emplace_back(0, 2);
+  EXPECT_TRUE(polar_block_candidates(sampled_polygon(comb, std::vector<int>(comb.size(), 2)), 3).empty());
+  EXPECT_TRUE(polar_block_candidates(regular_polygon(5, 8), 0).empty());
 }
 
 TEST(IntervalAssignment, MakesOppositeSidesMatchAndPartsEven) {
