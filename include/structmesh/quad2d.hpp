@@ -115,8 +115,10 @@ struct PolarBlocks {
 /// Input points first and bit-identical, like pave(). std::nullopt when the centre
 /// (the area centroid) is outside the part or a block's grid folds; InputError for
 /// inconsistent blocks.
+/// `polished_min`, when given, receives the smallest scaled Jacobian the blocks reached
+/// after their polish (-inf when they were not made: the centre outside, a block folded).
 std::optional<PavedPart> polar_mesh(const Polygon2& boundary, const PolarBlocks& blocks,
-                                    const MappedMeshOptions& options = {});
+                                    const MappedMeshOptions& options = {}, double* polished_min = nullptr);
 
 /// Polar layouts that fit a part's boundary as it is sampled (its point count fixed and
 /// even, one loop), for the parts the interval assignment gave no layout or whose layout

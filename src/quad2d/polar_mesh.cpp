@@ -11,6 +11,7 @@
 #include "structmesh/error.hpp"
 #include "structmesh/quad2d.hpp"
 
+#include <limits>
 #include <string>
 
 namespace structmesh {
@@ -34,7 +35,8 @@ Vec2 area_centroid(const std::span<const Vec2> ring) {
 }  // namespace
 
 std::optional<PavedPart> polar_mesh(const Polygon2& boundary, const PolarBlocks& blocks,
-                                    const MappedMeshOptions& options) {
+                                    const MappedMeshOptions& options, double* polished_min) {
+  if (polished_min != nullptr) *polished_min = -std::numeric_limits<double>::infinity();
   if (boundary.ring_count() != 1) throw InputError("polar_mesh: the part must have one loop (no holes)");
   const std::span<const Vec2> ring = boundary.ring(0);
   const auto n = static_cast<std::int64_t>(ring.size());
@@ -117,6 +119,7 @@ std::optional<PavedPart> polar_mesh(const Polygon2& boundary, const PolarBlocks&
     const double size = perimeter / static_cast<double>(ring.size());
     const double after = paving::polish_quads(result.points, result.quads, static_cast<Index>(ring.size()), size,
                                               options.min_scaled_jacobian, paving::kBlockPolishEnergy);
+    if (polished_min != nullptr) *polished_min = after;
     if (!(after >= options.min_scaled_jacobian)) return std::nullopt;
   }
   result.stats.polar = 1;

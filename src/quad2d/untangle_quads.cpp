@@ -144,6 +144,10 @@ double min_scaled_jacobian(std::span<const Vec2> points, std::span<const std::ar
   return summarize(points, quads).min;
 }
 
+double mean_scaled_jacobian(std::span<const Vec2> points, std::span<const std::array<Index, 4>> quads) {
+  return summarize(points, quads).mean;
+}
+
 double polish_quads(std::vector<Vec2>& points, std::span<const std::array<Index, 4>> quads, Index fixed_count,
                     double size, double threshold, const CornerEnergy& energy) {
   // Only meshes of a part of a few thousand quads: the chords of polar blocks and the

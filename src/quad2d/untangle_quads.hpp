@@ -52,6 +52,9 @@ UntangleResult untangle_quads(std::vector<Vec2>& points, std::span<const std::ar
 /// quads whose first index is kInvalidIndex are skipped; +inf for none.
 double min_scaled_jacobian(std::span<const Vec2> points, std::span<const std::array<Index, 4>> quads);
 
+/// Their mean scaled Jacobian (an inverted or degenerate quad counts as -inf); 0 for none.
+double mean_scaled_jacobian(std::span<const Vec2> points, std::span<const std::array<Index, 4>> quads);
+
 /// Shape optimisation of a quad mesh whose points from `fixed_count` on may move:
 /// untangle_quads() with `energy` over all movable points (a folded start is first
 /// untangled with the conformal energy); a mesh of more than 20k movable points is
