@@ -4,6 +4,7 @@
 #include "structmesh/error.hpp"
 #include "structmesh/io.hpp"
 #include "structmesh/quad2d.hpp"
+#include "structmesh/regions.hpp"
 #include "test_data.hpp"
 
 #include <gtest/gtest.h>
@@ -83,6 +84,24 @@ TEST(MeshRegionQuads, ACreekNarrowerThanAnElementIsClosedAndTheRestMeshed) {
   } catch (const Error&) {
     // Paving a creek a fifth of an element wide may fail; it must say so, not crash.
   }
+}
+
+TEST(MeshRegionQuads, KeyPartsWithoutAPlannedLayoutGetPolarBlocksBeforePaving) {
+  // The Key in 32 parts at its mean boundary segment: some parts have no layout from the
+  // interval assignment or fail its quality check, and polar layouts chosen for their
+  // sampled counts take over where they reach 0.6 (and a mean of 0.96).
+  const Polygon2 region = make_key_region(2000);
+  Quad2dOptions options;
+  options.partition.parts = 32;
+  const Quad2dResult result = mesh_region_quads(region, options);
+  expect_valid_conforming(result);
+  const PavingStats& stats = result.report.paving;
+  EXPECT_GT(stats.unplanned_blocks, 0u);
+  EXPECT_LE(stats.unplanned_blocks, stats.polar);
+  EXPECT_LE(stats.mapped + stats.polar, 32u);
+  // Every kept block reaches 0.6, and paved parts do too on the Key.
+  EXPECT_GE(result.report.scaled_jacobian_min, 0.6);
+  EXPECT_NEAR(result.report.mesh_area, result.report.region_area, 1e-5 * result.report.region_area);
 }
 
 TEST(MeshRegionQuads, RejectsNegativeFilterSettings) {
