@@ -15,11 +15,14 @@
 #include "structmesh/quad2d.hpp"
 #include "structmesh/quality.hpp"
 
+#include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <utility>
 
 namespace structmesh {
 
@@ -82,27 +85,50 @@ RelaxStats relax_piece(RelaxPiece& piece, const RelaxOptions& options, const Rel
   RelaxStats stats;
   stats.moved_vertices = comm.sum(zone.size());
 
-  // Neighbours of the zone vertices, each once, in ascending global order.
+  // Neighbours of the zone vertices, each once, in ascending global order: counted,
+  // then filled, each row in parallel (the same rows as one serial pass).
   CompressedRows neighbours;
   {
-    std::vector<Index> row;
-    for (const Index v : zone) {
+    const auto sorted_row = [&](Index v, std::vector<Index>& row) {
       row.clear();
       for_each_edge_neighbour(v, false, [&](Index w) { row.push_back(w); });
       std::sort(row.begin(), row.end(), [&](Index a, Index b) { return piece.global[a] < piece.global[b]; });
       row.erase(std::unique(row.begin(), row.end()), row.end());
-      neighbours.items.insert(neighbours.items.end(), row.begin(), row.end());
-      neighbours.offsets.push_back(static_cast<Index>(neighbours.items.size()));
-    }
+    };
+    std::vector<Index> counts(zone.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, zone.size()),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        std::vector<Index> row;
+                        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                          sorted_row(zone[i], row);
+                          counts[i] = static_cast<Index>(row.size());
+                        }
+                      });
+    neighbours.offsets.resize(zone.size() + 1);
+    neighbours.offsets[0] = 0;
+    std::inclusive_scan(counts.begin(), counts.end(), neighbours.offsets.begin() + 1);
+    neighbours.items.resize(neighbours.offsets.back());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, zone.size()),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        std::vector<Index> row;
+                        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                          sorted_row(zone[i], row);
+                          std::copy(row.begin(), row.end(), neighbours.items.begin() + neighbours.offsets[i]);
+                        }
+                      });
   }
-  // The quads that can change: those with a moving vertex.
+  // The quads that can change: those with a moving vertex (flagged in parallel, then
+  // listed in order).
   std::vector<Index> zone_quads;
-  for (Index q = 0; q < piece.quads.size(); ++q)
-    for (const Index v : piece.quads[q])
-      if (moving[v]) {
-        zone_quads.push_back(q);
-        break;
-      }
+  {
+    std::vector<std::uint8_t> touched(piece.quads.size(), 0);
+    tbb::parallel_for(std::size_t{0}, piece.quads.size(), [&](std::size_t q) {
+      const auto& quad = piece.quads[q];
+      touched[q] = moving[quad[0]] | moving[quad[1]] | moving[quad[2]] | moving[quad[3]];
+    });
+    for (Index q = 0; q < piece.quads.size(); ++q)
+      if (touched[q]) zone_quads.push_back(q);
+  }
 
   std::vector<Index> zone_slot(piece.quads.size(), kInvalidIndex);  // quad -> index in zone_quads
   for (std::size_t i = 0; i < zone_quads.size(); ++i) zone_slot[zone_quads[i]] = static_cast<Index>(i);
@@ -125,7 +151,11 @@ RelaxStats relax_piece(RelaxPiece& piece, const RelaxOptions& options, const Rel
   std::size_t refused = 0;
   const double tolerance = 1e-9 * piece.size;
   for (int iteration = 0; iteration < options.iterations && stats.moved_vertices > 0; ++iteration) {
-    for (const Index v : moving_vertices) proposal[v] = piece.points[v], accepted[v] = 1;
+    tbb::parallel_for(std::size_t{0}, moving_vertices.size(), [&](std::size_t i) {
+      const Index v = moving_vertices[i];
+      proposal[v] = piece.points[v];
+      accepted[v] = 1;
+    });
     tbb::parallel_for(std::size_t{0}, zone.size(), [&](std::size_t i) {
       Vec3 sum = Vec3::Zero();
       const auto row = neighbours.row(i);
@@ -172,15 +202,25 @@ RelaxStats relax_piece(RelaxPiece& piece, const RelaxOptions& options, const Rel
       std::sort(check.begin(), check.end());
       check.erase(std::unique(check.begin(), check.end()), check.end());
     }
-    double largest_move = 0;
-    for (const Index v : zone) {
-      if (!accepted[v]) {
-        ++refused;
-        continue;
-      }
-      largest_move = std::max(largest_move, (proposal[v] - piece.points[v]).norm());
-      piece.points[v] = proposal[v];
-    }
+    // The moves, in parallel: a maximum and a count do not depend on the order.
+    const auto [largest_move, refused_now] = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, zone.size()), std::pair<double, std::size_t>{0.0, 0},
+        [&](const tbb::blocked_range<std::size_t>& range, std::pair<double, std::size_t> partial) {
+          for (std::size_t i = range.begin(); i != range.end(); ++i) {
+            const Index v = zone[i];
+            if (!accepted[v]) {
+              ++partial.second;
+              continue;
+            }
+            partial.first = std::max(partial.first, (proposal[v] - piece.points[v]).norm());
+            piece.points[v] = proposal[v];
+          }
+          return partial;
+        },
+        [](const std::pair<double, std::size_t>& a, const std::pair<double, std::size_t>& b) {
+          return std::pair<double, std::size_t>{std::max(a.first, b.first), a.second + b.second};
+        });
+    refused += refused_now;
     comm.sync_points(piece.points);
     stats.iterations = iteration + 1;
     if (comm.max(largest_move) <= tolerance) break;
