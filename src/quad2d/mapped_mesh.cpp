@@ -21,12 +21,6 @@
 
 namespace structmesh {
 
-namespace {
-// A grid rescued by polish_quads() replaces paving only with at least this mean scaled
-// Jacobian (see mapped_mesh()).
-constexpr double kPolishedGridMinMean = 0.96;
-}  // namespace
-
 namespace mapped {
 
 namespace {
@@ -323,14 +317,12 @@ std::optional<PavedPart> mapped_mesh(const Polygon2& boundary, const std::array<
   if (!chosen) {
     // No smoothing lifted every quad over the threshold: the best grid is polished as
     // a whole (the optimisation polar_mesh() applies to its blocks) and kept if it then
-    // reaches the threshold with a mean of at least kPolishedGridMinMean (paved parts
-    // average 0.975-0.99; the Pipe's one part that reached 0.63 this way averaged 0.949
-    // and took the whole mesh's mean from 0.982 below the 0.98 the issue asks for).
+    // reaches the threshold with a mean of at least kRescuedBlocksMinMean.
     const double after = paving::polish_quads(part.points, part.quads, static_cast<Index>(ring.size()),
                                               perimeter / static_cast<double>(ring.size()), options.min_scaled_jacobian,
                                               paving::kBlockPolishEnergy);
     if (!(after >= options.min_scaled_jacobian) ||
-        !(paving::mean_scaled_jacobian(part.points, part.quads) >= kPolishedGridMinMean))
+        !(paving::mean_scaled_jacobian(part.points, part.quads) >= paving::kRescuedBlocksMinMean))
       return std::nullopt;
   }
   return part;

@@ -34,13 +34,10 @@ using Clock = std::chrono::steady_clock;
 
 // Unplanned polar layouts (polar_block_candidates) are tried on parts of up to this
 // many expected quads (polar_mesh()'s polish takes up to 20k free points, as for the
-// planned ones in sample_partition()), at most this many layouts per part.
+// planned ones in sample_partition()), at most this many layouts per part, and a part
+// stops trying after a layout polished to under kHopelessLayout.
 constexpr double kUnplannedBlocksMaxQuads = 15000;
 constexpr std::size_t kUnplannedLayouts = 3;
-// ... and kept only with at least this mean scaled Jacobian (paved parts average
-// 0.975-0.99): on the Pipe in 16 parts the one layout that passed 0.6 averaged 0.94 and
-// took the mesh's mean below the 0.98; the Key's four are at 0.97 or more.
-constexpr double kUnplannedMinMean = 0.96;
 constexpr double kHopelessLayout = 0.1;
 
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
@@ -165,11 +162,11 @@ std::vector<PavedPart> pave_parts(const Quad2dSetup& setup, std::span<const std:
             }
             // No layout planned, or the planned one failed its quality check: polar
             // blocks that fit the counts as sampled (the first of up to three layouts
-            // that passes), before paving. A paved part of 2k quads leaves about 50
-            // interior singular vertices, polar blocks one: on the Key in 32 parts
-            // this took the singular vertices from 560 to 368 (paving time 1.8 -> 5 s on
-            // one thread, for the layouts that fail), on the Gulf in 1024 parts from
-            // 16,213 to 13,813 (paving 10.7 -> 30 s on two threads).
+            // that passes, with a mean of kRescuedBlocksMinMean), before paving. A paved
+            // part of 2k quads leaves about 50 interior singular vertices, polar blocks
+            // one: on the Key in 32 parts this took the singular vertices from 560 to 368
+            // (paving time 1.8 -> 4.3 s on one thread, for the layouts that fail), on the
+            // Gulf in 1024 parts from 16,213 to 14,416 (paving 10.7 -> 27 s on two threads).
             bool unplanned = false;
             if (!mapped && boundary.ring_count() == 1 &&
                 setup.partition.part_areas[p] / (setup.size * setup.size) <= kUnplannedBlocksMaxQuads) {
@@ -185,7 +182,8 @@ std::vector<PavedPart> pave_parts(const Quad2dSetup& setup, std::span<const std:
                 // folded): the part's other layouts rarely do better (none on the Key;
                 // the Pipe's paving time 5.0 -> 3.8 s on one thread, the same mesh).
                 if (!mapped && reached < kHopelessLayout) break;
-                if (mapped && !(paving::mean_scaled_jacobian(mapped->points, mapped->quads) >= kUnplannedMinMean))
+                if (mapped &&
+                    !(paving::mean_scaled_jacobian(mapped->points, mapped->quads) >= paving::kRescuedBlocksMinMean))
                   mapped.reset();
                 if (mapped) {
                   unplanned = true;
