@@ -128,7 +128,7 @@ std::optional<PavedPart> polar_mesh(const Polygon2& boundary, const PolarBlocks&
 /// more than 8) side i has r_{i-1} + r_{i+1} points, which fixes the chord counts r.
 /// A corner set whose r are not positive integers is tried with one corner moved by one
 /// point. Layouts come best first by the turn of the corners they leave out plus the
-/// chords' deviation from their length to the centroid; at most `max_candidates`; empty
+/// chords' deviation from their length to the loop's mean point; at most `max_candidates`; empty
 /// for a part with holes, an odd loop or fewer than 3 corners.
 std::vector<PolarBlocks> polar_block_candidates(const Polygon2& boundary, std::size_t max_candidates = 3);
 

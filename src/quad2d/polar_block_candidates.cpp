@@ -121,7 +121,7 @@ std::vector<PolarBlocks> polar_block_candidates(const Polygon2& boundary, std::s
   // Every odd subset of at least 3 of them, each as it is or with one corner moved by
   // one point (half-integer chord counts become integers), scored by the turn its
   // dropped corners leave on block sides plus the chords' relative deviation from
-  // their straight length to the centroid.
+  // their straight length to the mean of the loop's points (near polar_mesh()'s area centroid).
   struct Scored {
     double score;
     PolarBlocks blocks;
