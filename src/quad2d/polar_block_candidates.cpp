@@ -21,7 +21,6 @@
 #include <bit>
 #include <cmath>
 #include <numbers>
-#include <set>
 
 namespace structmesh {
 

@@ -114,7 +114,7 @@ class Cleaner {
             break;
           }
           ++stats.rejected;
-          rejected_at_[{c.a, c.b, static_cast<std::uint8_t>(c.kind), c.dir}] = operations_;
+          rejected_at_[key_of(c)] = operations_;
         }
       }
       stats.passes = pass + 1;
@@ -603,7 +603,7 @@ class Cleaner {
   /// made it exact, but the meshes worse (Key 560 -> 588 singular vertices, Pipe 588 -> 633):
   /// those reordered repeats are second chances that sometimes pass.
   bool known_to_fail(const Candidate& c) {
-    const auto it = rejected_at_.find({c.a, c.b, static_cast<std::uint8_t>(c.kind), c.dir});
+    const auto it = rejected_at_.find(key_of(c));
     if (it == rejected_at_.end()) return false;
     const std::uint64_t since = it->second;
     ++visit_stamp_;
@@ -733,6 +733,7 @@ class Cleaner {
     std::uint8_t kind, dir;
     bool operator==(const CandidateKey&) const = default;
   };
+  static CandidateKey key_of(const Candidate& c) { return {c.a, c.b, static_cast<std::uint8_t>(c.kind), c.dir}; }
   struct CandidateKeyHash {
     std::size_t operator()(const CandidateKey& k) const {
       return (static_cast<std::size_t>(k.a) * 0x9E3779B97F4A7C15ull) ^
