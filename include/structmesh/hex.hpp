@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -222,6 +223,39 @@ struct FlippedTetRepair {
 /// points inside the cavities stay unreferenced.
 FlippedTetRepair repair_flipped_tets(TetMesh& tets, std::vector<Vec3>& parameter, int max_rings = 4);
 
+struct TetMapUntanglingOptions {
+  /// Vertex rings around the flipped tets, one joint untangling per entry while tets stay
+  /// flipped (a round is kept only if fewer stay flipped).
+  std::vector<int> rings{3, 6, 12};
+  /// A first round at rings[0] with the surface points pinned to their targets (the map's
+  /// boundary stays on P where the interior points alone can untangle it).
+  bool pinned_first = true;
+  /// The spring that holds a freed surface point near its target, per squared mean image edge
+  /// of drift, against a tet's energy of about 3 (the foldover-free energy of a similarity).
+  double spring = 1.0;
+  int max_steps = 30;        ///< continuation steps (ε updates) per round
+  int max_iterations = 200;  ///< L-BFGS iterations per step
+};
+
+struct TetMapUntangling {
+  std::size_t flipped_before = 0, flipped_after = 0;
+  int rounds = 0, rings = 0;              ///< rounds run; vertex rings of the last
+  std::size_t region_tets = 0;            ///< tets of the last round's energy
+  std::size_t free_points = 0;            ///< free points of the last kept round
+  std::size_t moved_boundary_points = 0;  ///< boundary points off their targets afterwards
+  double boundary_drift = 0;              ///< largest distance of one from its target, in mean image edges
+  double min_det_after = 0;               ///< smallest det J of the last kept round
+};
+
+/// Joint untangling of what a map's untangling leaves flipped: the points within `rings`
+/// vertex rings of the flipped tets whose tets all lie in that region move together, surface
+/// points (index < boundary_count) included, by the continuation method of Garanzha et al.
+/// 2021 on the Jacobians J = E_parameter E_source^-1 of the region's tets, each freed surface
+/// point held near `boundary_targets[v]` by a spring. The map outside the region does not
+/// change. InputError when the sizes do not match.
+TetMapUntangling untangle_tet_map(const TetMesh& source, std::vector<Vec3>& parameter, std::size_t boundary_count,
+                                  std::span<const Vec3> boundary_targets, const TetMapUntanglingOptions& options = {});
+
 struct HexOptions {
   PolycubeOptions polycube;
   std::size_t target_hexes = 0;  ///< about this many hexes (0: use `size`)
@@ -240,6 +274,11 @@ struct HexOptions {
   /// When the mesh made on the merged-plane polycube keeps an inverted hex, make it again
   /// with merge_planes_within = 0 and keep the better (fewer inverted, then larger minimum).
   bool retry_without_merging = true;
+  /// What the map's untangling and star cavities leave flipped, untangled jointly with the
+  /// surface freed on springs (untangle_tet_map(), --untangle-map). Off by default: it clears
+  /// fertility's map (27 flipped tets to 0) and nearly the kitten's (16 to 1) but costs 20-90 s
+  /// a model, and leaves the screwdriver's and kitten_40k's, where the surface map folds.
+  bool untangle_map_jointly = false;
   HexSmoothingOptions smoothing;
   bool progress = false;
 };
@@ -255,6 +294,7 @@ struct HexResult {
   SurfaceMapRelaxation surface_map;
   VolumetricMap map;                ///< statistics of the map
   FlippedTetRepair flipped_repair;  ///< the re-triangulation of what the map's untangling left flipped
+  TetMapUntangling map_untangling;  ///< the joint untangling of what the star cavities left flipped
   double hex_size = 0;              ///< the grid's target edge length in the parameter domain
   std::size_t padding_hexes = 0;
   std::size_t interior_points_outside = 0;  ///< grid points outside Q, put on it before smoothing

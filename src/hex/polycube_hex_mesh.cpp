@@ -297,6 +297,15 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
   if (result.map.flipped > 0) {
     result.flipped_repair = repair_flipped_tets(result.tets, result.map.parameter);
     result.map.flipped = result.flipped_repair.flipped_after;
+    if (result.map.flipped > 0 && options.untangle_map_jointly) {
+      // What stays flipped lies where the map's surface folds on P: the region's surface
+      // points are freed too (held near P by springs) and the region untangled jointly.
+      const std::vector<Vec3>& targets = map_onto_p ? on_p.points : polycube.pseudo.surface.points;
+      result.map_untangling = untangle_tet_map(result.tets, result.map.parameter, targets.size(), targets);
+      result.map.flipped = result.map_untangling.flipped_after;
+      result.map.released_boundary_points =
+          std::max(result.map.released_boundary_points, result.map_untangling.moved_boundary_points);
+    }
     if (result.map.flipped == 0)
       result.map.volume_distortion = volume_distortion(result.tets, TetMesh{result.map.parameter, result.tets.tets});
   }

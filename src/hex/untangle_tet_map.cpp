@@ -1,0 +1,325 @@
+// untangle_tet_map(): the last step of the volumetric map's untangling (§5.2.2): the tets that
+// the point-by-point untangling and the star cavities leave flipped are untangled jointly,
+// with the map's surface free to leave P where it folds.
+//
+// Why. What stays flipped lies where the map's surface on P folds or is squeezed flat (Q's
+// charts do not match P's facets, thin parts of Q are squashed): with the surface pinned there,
+// no placement of the interior points is valid, and neither moving one point at a time
+// (Knupp's function) nor a star cavity can help (docs/design/hex.md). So the surface points
+// of a region around what stays flipped are freed too, held near their places on P by a
+// spring only, and the region is untangled jointly by the continuation method of Garanzha et
+// al. 2021 ("Foldover-free maps in 50 lines of code", mesh/foldover_free.hpp) on the tets'
+// Jacobians J = E_parameter E_source^-1 (scaled so that det J is 1 on average). With the
+// region's surface free a valid placement always exists (the rim of the region, where it
+// meets tets that stay as they are, is valid), and the barrier keeps every tet positive once
+// it is. Only the region's points move, so the map outside it is (5.1)'s.
+//
+// Hand-written on LBFGS++ for the same reason as untangle_hexes.cpp: no Debian library
+// untangles a tet map.
+//
+// The energy is evaluated per tet in fixed blocks (TBB) into a buffer of per-node gradients
+// summed per free point in a fixed order, so the result does not depend on the thread count.
+#include "structmesh/error.hpp"
+#include "structmesh/hex.hpp"
+#include "structmesh/quality.hpp"
+
+#include "mesh/foldover_free.hpp"
+
+#include <Eigen/Dense>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+namespace structmesh {
+namespace {
+
+constexpr std::size_t kBlock = 512;  // tets per parallel block (fixed: sums do not depend on threads)
+
+// The tets that use a free point: their nodes' slots, their reference matrices M_t (so that
+// J = E_x M_t, E_x the edge matrix in the unknowns' units) and weights (source volume over the
+// mean), and per free point where its gradient contributions lie in the per-tet buffer.
+class TetMapEnergy {
+ public:
+  TetMapEnergy(const TetMesh& source, const std::vector<Vec3>& parameter, std::span<const Index> free,
+               std::span<const Vec3> anchor, double spring, double unit, double jacobian_scale)
+      : parameter_(parameter),
+        free_(free),
+        anchor_(anchor),
+        spring_(spring),
+        inv_unit_(1.0 / unit),
+        origin_(parameter[free[0]]) {
+    std::vector<Index> slot(parameter.size(), kInvalidIndex);
+    for (std::size_t k = 0; k < free.size(); ++k) slot[free[k]] = static_cast<Index>(k);
+    double total_volume = 0;
+    for (std::size_t t = 0; t < source.tets.size(); ++t) {
+      const auto& tet = source.tets[t];
+      if (std::none_of(tet.begin(), tet.end(), [&](Index v) { return slot[v] != kInvalidIndex; })) continue;
+      Eigen::Matrix3d edges;
+      for (int c = 0; c < 3; ++c) edges.col(c) = source.points[tet[c + 1]] - source.points[tet[0]];
+      const double det = edges.determinant();
+      if (!(std::abs(det) > 0)) continue;  // a flat source tet has no Jacobian; it cannot invert either
+      tets_.push_back(tet);
+      std::array<Index, 4> s;
+      for (int i = 0; i < 4; ++i) s[i] = slot[tet[i]];
+      slots_.push_back(s);
+      // J = E_parameter E_source^-1 c, with E_parameter = unit E_x.
+      reference_.push_back(unit * jacobian_scale * edges.inverse());
+      weight_.push_back(std::abs(det));
+      total_volume += std::abs(det);
+    }
+    const double mean = tets_.empty() ? 1.0 : total_volume / static_cast<double>(tets_.size());
+    for (double& w : weight_) w /= mean;
+    incidence_offsets_.assign(free.size() + 1, 0);
+    for (const auto& s : slots_)
+      for (const Index k : s)
+        if (k != kInvalidIndex) ++incidence_offsets_[k + 1];
+    for (std::size_t k = 0; k < free.size(); ++k) incidence_offsets_[k + 1] += incidence_offsets_[k];
+    incidence_.resize(incidence_offsets_.back());
+    std::vector<std::size_t> fill(incidence_offsets_.begin(), incidence_offsets_.end() - 1);
+    for (std::size_t t = 0; t < slots_.size(); ++t)
+      for (int i = 0; i < 4; ++i)
+        if (slots_[t][i] != kInvalidIndex) incidence_[fill[slots_[t][i]]++] = static_cast<Index>(4 * t + i);
+    node_gradient_.resize(4 * tets_.size());
+    block_sums_.resize((tets_.size() + kBlock - 1) / kBlock);
+  }
+
+  std::size_t tet_count() const { return tets_.size(); }
+
+  Eigen::VectorXd initial() const {
+    Eigen::VectorXd x(3 * static_cast<Eigen::Index>(free_.size()));
+    for (std::size_t k = 0; k < free_.size(); ++k)
+      x.segment<3>(3 * static_cast<Eigen::Index>(k)) = (parameter_[free_[k]] - origin_) * inv_unit_;
+    return x;
+  }
+  void write(const Eigen::VectorXd& x, std::vector<Vec3>& parameter) const {
+    for (std::size_t k = 0; k < free_.size(); ++k)
+      parameter[free_[k]] = origin_ + Vec3(x.segment<3>(3 * static_cast<Eigen::Index>(k))) / inv_unit_;
+  }
+
+  double eps = 0;
+
+  double operator()(const Eigen::VectorXd& x, Eigen::VectorXd& grad) {
+    for_blocks([&](std::size_t b) {
+      double total = 0;
+      for (std::size_t t = b * kBlock; t < std::min(tets_.size(), (b + 1) * kBlock); ++t) {
+        const std::array<Vec3, 4> p = nodes(x, t);
+        Eigen::Matrix3d edges;
+        for (int c = 0; c < 3; ++c) edges.col(c) = p[c + 1] - p[0];
+        const Eigen::Matrix3d jacobian = edges * reference_[t];
+        Vec3 ga, gb, gd;
+        total +=
+            weight_[t] * detail::foldover_energy_3d(eps, jacobian.col(0), jacobian.col(1), jacobian.col(2), ga, gb, gd);
+        // dE/dE_x = dE/dJ M^T, column c the gradient of node c + 1; node 0 takes minus their sum.
+        Eigen::Matrix3d d_jacobian;
+        d_jacobian << ga, gb, gd;
+        const Eigen::Matrix3d d_edges = weight_[t] * d_jacobian * reference_[t].transpose();
+        node_gradient_[4 * t] = -d_edges.rowwise().sum();
+        for (int c = 0; c < 3; ++c) node_gradient_[4 * t + 1 + c] = d_edges.col(c);
+      }
+      block_sums_[b] = total;
+    });
+    grad.resize(x.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, free_.size(), kBlock), [&](const auto& range) {
+      for (std::size_t k = range.begin(); k != range.end(); ++k) {
+        Vec3 sum = Vec3::Zero();
+        for (std::size_t e = incidence_offsets_[k]; e < incidence_offsets_[k + 1]; ++e)
+          sum += node_gradient_[incidence_[e]];
+        grad.segment<3>(3 * static_cast<Eigen::Index>(k)) = sum;
+      }
+    });
+    double total = 0;
+    for (const double s : block_sums_) total += s;
+    // The springs of the free surface points (anchor_[k] NaN for interior points).
+    for (std::size_t k = 0; k < free_.size(); ++k) {
+      if (std::isnan(anchor_[k][0])) continue;
+      const Vec3 offset = Vec3(x.segment<3>(3 * static_cast<Eigen::Index>(k))) - (anchor_[k] - origin_) * inv_unit_;
+      total += spring_ * offset.squaredNorm();
+      grad.segment<3>(3 * static_cast<Eigen::Index>(k)) += 2 * spring_ * offset;
+    }
+    return total;
+  }
+
+  /// The smallest det J, and (if given) how many tets have det J <= 0.
+  double min_det(const Eigen::VectorXd& x, std::size_t* nonpositive = nullptr) {
+    std::vector<std::size_t> counts(block_sums_.size(), 0);
+    for_blocks([&](std::size_t b) {
+      double smallest = std::numeric_limits<double>::infinity();
+      for (std::size_t t = b * kBlock; t < std::min(tets_.size(), (b + 1) * kBlock); ++t) {
+        const std::array<Vec3, 4> p = nodes(x, t);
+        Eigen::Matrix3d edges;
+        for (int c = 0; c < 3; ++c) edges.col(c) = p[c + 1] - p[0];
+        const double det = (edges * reference_[t]).determinant();
+        smallest = std::min(smallest, det);
+        if (!(det > 0)) ++counts[b];
+      }
+      block_sums_[b] = smallest;
+    });
+    if (nonpositive) {
+      *nonpositive = 0;
+      for (const std::size_t c : counts) *nonpositive += c;
+    }
+    return block_sums_.empty() ? 0.0 : *std::min_element(block_sums_.begin(), block_sums_.end());
+  }
+
+ private:
+  template <class F>
+  void for_blocks(F&& f) {
+    tbb::parallel_for(std::size_t{0}, block_sums_.size(), f);
+  }
+  std::array<Vec3, 4> nodes(const Eigen::VectorXd& x, std::size_t t) const {
+    std::array<Vec3, 4> p;
+    for (int i = 0; i < 4; ++i) {
+      const Index s = slots_[t][i];
+      p[i] = s == kInvalidIndex ? Vec3((parameter_[tets_[t][i]] - origin_) * inv_unit_)
+                                : Vec3(x.segment<3>(3 * static_cast<Eigen::Index>(s)));
+    }
+    return p;
+  }
+
+  const std::vector<Vec3>& parameter_;
+  std::span<const Index> free_;
+  std::span<const Vec3> anchor_;
+  double spring_, inv_unit_;
+  Vec3 origin_;
+  std::vector<std::array<Index, 4>> tets_, slots_;
+  std::vector<Eigen::Matrix3d> reference_;
+  std::vector<double> weight_;
+  std::vector<std::size_t> incidence_offsets_;
+  std::vector<Index> incidence_;  // 4 * tet + node
+  std::vector<Vec3> node_gradient_;
+  std::vector<double> block_sums_;
+};
+
+std::size_t count_flipped(const std::vector<Vec3>& parameter, const std::vector<std::array<Index, 4>>& tets) {
+  std::size_t flipped = 0;
+  for (const auto& tet : tets)
+    if (!(tet_signed_volume(parameter, tet) > 0)) ++flipped;
+  return flipped;
+}
+
+}  // namespace
+
+TetMapUntangling untangle_tet_map(const TetMesh& source, std::vector<Vec3>& parameter, std::size_t boundary_count,
+                                  std::span<const Vec3> boundary_targets, const TetMapUntanglingOptions& options) {
+  if (parameter.size() != source.points.size())
+    throw InputError("untangle_tet_map: " + std::to_string(parameter.size()) + " parameter positions for " +
+                     std::to_string(source.points.size()) + " points");
+  if (boundary_targets.size() != boundary_count || boundary_count > source.points.size())
+    throw InputError("untangle_tet_map: " + std::to_string(boundary_targets.size()) + " boundary targets for " +
+                     std::to_string(boundary_count) + " boundary points");
+  TetMapUntangling result;
+  const std::size_t point_count = source.points.size();
+  std::vector<std::uint8_t> flipped(source.tets.size(), 0);
+  for (std::size_t t = 0; t < source.tets.size(); ++t)
+    if (!(tet_signed_volume(parameter, source.tets[t]) > 0)) flipped[t] = 1, ++result.flipped_before;
+  result.flipped_after = result.flipped_before;
+  if (result.flipped_before == 0) return result;
+
+  // det J averages 1: J scaled by the cube root of the source's volume over the image's.
+  double source_volume = 0, image_volume = 0, edge_sum = 0;
+  for (const auto& tet : source.tets) {
+    source_volume += std::abs(tet_signed_volume(source.points, tet));
+    image_volume += std::abs(tet_signed_volume(parameter, tet));
+    edge_sum += (parameter[tet[1]] - parameter[tet[0]]).norm();
+  }
+  const double jacobian_scale = image_volume > 0 ? std::cbrt(source_volume / image_volume) : 1.0;
+  // The unknowns in units of the mean image edge, so that L-BFGS's first step is about an edge.
+  const double unit = edge_sum > 0 ? edge_sum / static_cast<double>(source.tets.size()) : 1.0;
+
+  const CompressedRows tets_of_point = build_vertex_elements(source.tets, point_count);
+  std::vector<std::uint8_t> in_region(point_count, 0);
+  std::vector<Index> region;
+  for (std::size_t t = 0; t < source.tets.size(); ++t)
+    if (flipped[t])
+      for (const Index v : source.tets[t])
+        if (!in_region[v]) in_region[v] = 1, region.push_back(v);
+  int rings = 0;
+  auto grow_to = [&](int target_rings) {
+    for (; rings < target_rings; ++rings) {
+      const std::size_t end = region.size();
+      for (std::size_t i = 0; i < end; ++i)
+        for (const Index t : tets_of_point.row(region[i]))
+          for (const Index v : source.tets[t])
+            if (!in_region[v]) in_region[v] = 1, region.push_back(v);
+    }
+  };
+  // The rounds: (rings, surface free), the first one pinned if asked.
+  std::vector<std::pair<int, bool>> rounds;
+  for (const int r : options.rings) {
+    if (rounds.empty() && options.pinned_first) rounds.emplace_back(r, false);
+    rounds.emplace_back(r, true);
+  }
+  for (const auto& [target_rings, surface_free] : rounds) {
+    grow_to(target_rings);
+    // Free: the region's points whose tets all lie in the region's closure (so the rim, the
+    // points with a tet reaching outside, holds the rest of the map in place).
+    std::vector<Index> free;
+    std::vector<Vec3> anchor;
+    const Vec3 interior(std::numeric_limits<double>::quiet_NaN(), 0, 0);
+    for (const Index v : region) {
+      bool inner = true;
+      for (const Index t : tets_of_point.row(v))
+        for (const Index u : source.tets[t]) inner = inner && in_region[u];
+      if (!inner || (v < boundary_count && !surface_free)) continue;
+      free.push_back(v);
+      anchor.push_back(v < boundary_count ? boundary_targets[v] : interior);
+    }
+    if (free.empty()) continue;
+    // Sorted, so the unknowns' order (and the result) does not depend on the growth's order.
+    std::vector<std::size_t> order(free.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return free[a] < free[b]; });
+    std::vector<Index> sorted_free(free.size());
+    std::vector<Vec3> sorted_anchor(free.size());
+    for (std::size_t i = 0; i < order.size(); ++i) sorted_free[i] = free[order[i]], sorted_anchor[i] = anchor[order[i]];
+    TetMapEnergy energy(source, parameter, sorted_free, sorted_anchor, options.spring, unit, jacobian_scale);
+    Eigen::VectorXd x = energy.initial();
+    detail::FoldoverFreeSettings loop;
+    loop.wolfe = false;
+    loop.restore_on_failure = true;
+    loop.max_steps = options.max_steps;
+    loop.max_iterations = options.max_iterations;
+    std::vector<Vec3> trial = parameter;
+    // The loop keeps the placement with the largest smallest det J; the one with the fewest
+    // flipped tets is kept here too, and wins while some stay flipped.
+    std::size_t fewest = 0;
+    energy.min_det(x, &fewest);
+    Eigen::VectorXd fewest_x = x;
+    const detail::FoldoverFreeResult minimised = detail::minimize_foldover_free(
+        x, energy.eps, [&](const Eigen::VectorXd& v, Eigen::VectorXd& g) { return energy(v, g); },
+        [&](const Eigen::VectorXd& v) {
+          std::size_t count = 0;
+          const double smallest = energy.min_det(v, &count);
+          if (count < fewest) fewest = count, fewest_x = v;
+          return smallest;
+        },
+        loop);
+    if (!(minimised.min_det_after > 0)) x = fewest_x;
+    energy.write(x, trial);
+    ++result.rounds;
+    result.rings = rings;
+    result.region_tets = energy.tet_count();
+    const std::size_t left = count_flipped(trial, source.tets);
+    if (left >= result.flipped_after) continue;  // kept only when it gains
+    parameter.swap(trial);
+    result.flipped_after = left;
+    result.min_det_after = minimised.min_det_after;
+    result.free_points = sorted_free.size();
+    result.moved_boundary_points = 0;
+    result.boundary_drift = 0;
+    for (std::size_t v = 0; v < boundary_count; ++v) {
+      const double drift = (parameter[v] - boundary_targets[v]).norm();
+      if (drift > 0) ++result.moved_boundary_points;
+      result.boundary_drift = std::max(result.boundary_drift, drift / unit);
+    }
+    if (left == 0) break;
+  }
+  return result;
+}
+
+}  // namespace structmesh

@@ -1,0 +1,94 @@
+// untangle_tet_map(): joint untangling of a tet map's flipped tets, the surface freed (on
+// springs) where pinning it leaves no valid placement.
+#include "hex/map_test_helpers.hpp"
+#include "polycube/shapes.hpp"
+#include "structmesh/error.hpp"
+#include "structmesh/hex.hpp"
+#include "structmesh/quality.hpp"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+namespace structmesh {
+namespace {
+
+using test::flipped;
+using test::solid;
+
+std::size_t nearest_point(const std::vector<Vec3>& points, std::size_t begin, std::size_t end, const Vec3& to) {
+  std::size_t best = begin;
+  for (std::size_t i = begin; i < end; ++i)
+    if ((points[i] - to).norm() < (points[best] - to).norm()) best = i;
+  return best;
+}
+
+TEST(UntangleTetMap, InteriorFoldIsUntangledWithTheSurfacePinned) {
+  const TriMesh box = test::subdivided_box(2, 2, 2, 8);
+  const TetMesh tets = solid(box);
+  const std::size_t boundary_count = box.points.size();
+  std::vector<Vec3> parameter = tets.points;
+  const std::size_t moved = nearest_point(tets.points, boundary_count, tets.points.size(), Vec3(1, 1, 1));
+  parameter[moved] += Vec3(0.4, 0.3, 0.1);
+  const std::size_t before = flipped(tets, parameter);
+  ASSERT_GT(before, 0u);
+  const std::vector<Vec3> targets(box.points.begin(), box.points.end());
+
+  const TetMapUntangling untangled = untangle_tet_map(tets, parameter, boundary_count, targets);
+  EXPECT_EQ(untangled.flipped_before, before);
+  EXPECT_EQ(untangled.flipped_after, 0u);
+  EXPECT_EQ(flipped(tets, parameter), 0u);
+  EXPECT_EQ(untangled.rounds, 1);  // the pinned round sufficed
+  EXPECT_EQ(untangled.moved_boundary_points, 0u);
+  for (std::size_t i = 0; i < boundary_count; ++i) EXPECT_EQ(parameter[i], targets[i]);
+}
+
+TEST(UntangleTetMap, SurfaceFoldFreesTheSurfaceNearItAndLeavesTheRestAlone) {
+  // A point of the top face pushed through the solid and out below its bottom: the target
+  // surface crosses itself, no placement of the interior points is valid, and no star cavity
+  // mends it (RepairFlippedTets.LeavesWhatNoStarCanMendAndTheMeshValid).
+  const TriMesh box = test::subdivided_box(2, 2, 1, 6);
+  const TetMesh tets = solid(box);
+  const std::size_t boundary_count = box.points.size();
+  std::vector<Vec3> parameter = tets.points;
+  const std::size_t top = nearest_point(box.points, 0, boundary_count, Vec3(1, 1, 1));
+  ASSERT_LT((box.points[top] - Vec3(1, 1, 1)).norm(), 1e-9);
+  parameter[top] = Vec3(1, 1, -0.5);
+  std::vector<Vec3> targets(parameter.begin(), parameter.begin() + static_cast<std::ptrdiff_t>(boundary_count));
+  const std::size_t before = flipped(tets, parameter);
+  ASSERT_GT(before, 0u);
+  const std::vector<Vec3> start = parameter;
+
+  const TetMapUntangling untangled = untangle_tet_map(tets, parameter, boundary_count, targets);
+  EXPECT_EQ(untangled.flipped_before, before);
+  EXPECT_EQ(untangled.flipped_after, 0u);
+  EXPECT_EQ(flipped(tets, parameter), 0u);
+  EXPECT_GE(untangled.rounds, 2);  // the pinned round cannot do it
+  EXPECT_GT(untangled.moved_boundary_points, 0u);
+  // The pushed point went back above the bottom face it had crossed.
+  EXPECT_GT(parameter[top][2], 0.0);
+  // Only the kept round's free points moved, and they are a small part of the mesh: the map
+  // away from the fold is untouched.
+  std::size_t moved = 0;
+  for (std::size_t i = 0; i < parameter.size(); ++i) moved += parameter[i] != start[i] ? 1 : 0;
+  EXPECT_GT(moved, 0u);
+  EXPECT_LE(moved, untangled.free_points);
+  EXPECT_LT(untangled.free_points, parameter.size() / 2);
+}
+
+TEST(UntangleTetMap, NothingToDoOnAValidMapAndMismatchedSizesAreRejected) {
+  const TriMesh box = test::subdivided_box(1, 1, 1, 4);
+  const TetMesh tets = solid(box);
+  std::vector<Vec3> parameter = tets.points;
+  const std::vector<Vec3> targets(box.points.begin(), box.points.end());
+  const TetMapUntangling untangled = untangle_tet_map(tets, parameter, targets.size(), targets);
+  EXPECT_EQ(untangled.flipped_before, 0u);
+  EXPECT_EQ(untangled.rounds, 0);
+  EXPECT_EQ(parameter, tets.points);
+  EXPECT_THROW(untangle_tet_map(tets, parameter, targets.size() + 1, targets), InputError);
+  parameter.pop_back();
+  EXPECT_THROW(untangle_tet_map(tets, parameter, targets.size(), targets), InputError);
+}
+
+}  // namespace
+}  // namespace structmesh
