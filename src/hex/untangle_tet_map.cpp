@@ -17,20 +17,19 @@
 // Hand-written on LBFGS++ for the same reason as untangle_hexes.cpp: no Debian library
 // untangles a tet map.
 //
-// The energy is evaluated per tet in fixed blocks (TBB) into a buffer of per-node gradients
-// summed per free point in a fixed order, so the result does not depend on the thread count.
+// The energy is evaluated per tet in fixed parallel blocks (mesh/free_point_elements.hpp), so
+// the result does not depend on the thread count.
 #include "structmesh/error.hpp"
 #include "structmesh/hex.hpp"
 #include "structmesh/quality.hpp"
 
 #include "mesh/foldover_free.hpp"
+#include "mesh/free_point_elements.hpp"
 
 #include <Eigen/Dense>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -38,106 +37,61 @@
 namespace structmesh {
 namespace {
 
-constexpr std::size_t kBlock = 512;  // tets per parallel block (fixed: sums do not depend on threads)
-
-// The tets that use a free point: their nodes' slots, their reference matrices M_t (so that
-// J = E_x M_t, E_x the edge matrix in the unknowns' units) and weights (source volume over the
-// mean), and per free point where its gradient contributions lie in the per-tet buffer.
+// The joint energy of the tets that use a free point: per tet its reference matrix M_t (so
+// that J = E_x M_t, E_x the edge matrix in the unknowns' units) and weight (source volume over
+// the mean), plus the springs of the free surface points.
 class TetMapEnergy {
  public:
   TetMapEnergy(const TetMesh& source, const std::vector<Vec3>& parameter, std::span<const Index> free,
                std::span<const Vec3> anchor, double spring, double unit, double jacobian_scale)
-      : parameter_(parameter),
-        free_(free),
-        anchor_(anchor),
-        spring_(spring),
-        inv_unit_(1.0 / unit),
-        origin_(parameter[free[0]]) {
-    std::vector<Index> slot(parameter.size(), kInvalidIndex);
-    for (std::size_t k = 0; k < free.size(); ++k) slot[free[k]] = static_cast<Index>(k);
+      : layout_(parameter, free, unit), anchor_(anchor.size()), spring_(spring) {
+    // The springs' rest positions in the unknowns' units (NaN for interior points).
+    for (std::size_t k = 0; k < anchor.size(); ++k)
+      anchor_[k] = std::isnan(anchor[k][0]) ? anchor[k] : layout_.to_unknowns(anchor[k]);
     double total_volume = 0;
-    for (std::size_t t = 0; t < source.tets.size(); ++t) {
-      const auto& tet = source.tets[t];
-      if (std::none_of(tet.begin(), tet.end(), [&](Index v) { return slot[v] != kInvalidIndex; })) continue;
+    for (const auto& tet : source.tets) {
+      if (!layout_.uses_free_point(tet)) continue;
       Eigen::Matrix3d edges;
       for (int c = 0; c < 3; ++c) edges.col(c) = source.points[tet[c + 1]] - source.points[tet[0]];
       const double det = edges.determinant();
       if (!(std::abs(det) > 0)) continue;  // a flat source tet has no Jacobian; it cannot invert either
-      tets_.push_back(tet);
-      std::array<Index, 4> s;
-      for (int i = 0; i < 4; ++i) s[i] = slot[tet[i]];
-      slots_.push_back(s);
+      layout_.add(tet);
       // J = E_parameter E_source^-1 c, with E_parameter = unit E_x.
       reference_.push_back(unit * jacobian_scale * edges.inverse());
       weight_.push_back(std::abs(det));
       total_volume += std::abs(det);
     }
-    const double mean = tets_.empty() ? 1.0 : total_volume / static_cast<double>(tets_.size());
+    layout_.finish();
+    const double mean = weight_.empty() ? 1.0 : total_volume / static_cast<double>(weight_.size());
     for (double& w : weight_) w /= mean;
-    incidence_offsets_.assign(free.size() + 1, 0);
-    for (const auto& s : slots_)
-      for (const Index k : s)
-        if (k != kInvalidIndex) ++incidence_offsets_[k + 1];
-    for (std::size_t k = 0; k < free.size(); ++k) incidence_offsets_[k + 1] += incidence_offsets_[k];
-    incidence_.resize(incidence_offsets_.back());
-    std::vector<std::size_t> fill(incidence_offsets_.begin(), incidence_offsets_.end() - 1);
-    for (std::size_t t = 0; t < slots_.size(); ++t)
-      for (int i = 0; i < 4; ++i)
-        if (slots_[t][i] != kInvalidIndex) incidence_[fill[slots_[t][i]]++] = static_cast<Index>(4 * t + i);
-    node_gradient_.resize(4 * tets_.size());
-    block_sums_.resize((tets_.size() + kBlock - 1) / kBlock);
   }
 
-  std::size_t tet_count() const { return tets_.size(); }
-
-  Eigen::VectorXd initial() const {
-    Eigen::VectorXd x(3 * static_cast<Eigen::Index>(free_.size()));
-    for (std::size_t k = 0; k < free_.size(); ++k)
-      x.segment<3>(3 * static_cast<Eigen::Index>(k)) = (parameter_[free_[k]] - origin_) * inv_unit_;
-    return x;
-  }
-  void write(const Eigen::VectorXd& x, std::vector<Vec3>& parameter) const {
-    for (std::size_t k = 0; k < free_.size(); ++k)
-      parameter[free_[k]] = origin_ + Vec3(x.segment<3>(3 * static_cast<Eigen::Index>(k))) / inv_unit_;
-  }
+  std::size_t tet_count() const { return layout_.size(); }
+  Eigen::VectorXd initial() const { return layout_.initial(); }
+  void write(const Eigen::VectorXd& x, std::vector<Vec3>& parameter) const { layout_.write(x, parameter); }
 
   double eps = 0;
 
   double operator()(const Eigen::VectorXd& x, Eigen::VectorXd& grad) {
-    for_blocks([&](std::size_t b) {
-      double total = 0;
-      for (std::size_t t = b * kBlock; t < std::min(tets_.size(), (b + 1) * kBlock); ++t) {
-        const std::array<Vec3, 4> p = nodes(x, t);
-        Eigen::Matrix3d edges;
-        for (int c = 0; c < 3; ++c) edges.col(c) = p[c + 1] - p[0];
-        const Eigen::Matrix3d jacobian = edges * reference_[t];
-        Vec3 ga, gb, gd;
-        total +=
-            weight_[t] * detail::foldover_energy_3d(eps, jacobian.col(0), jacobian.col(1), jacobian.col(2), ga, gb, gd);
-        // dE/dE_x = dE/dJ M^T, column c the gradient of node c + 1; node 0 takes minus their sum.
-        Eigen::Matrix3d d_jacobian;
-        d_jacobian << ga, gb, gd;
-        const Eigen::Matrix3d d_edges = weight_[t] * d_jacobian * reference_[t].transpose();
-        node_gradient_[4 * t] = -d_edges.rowwise().sum();
-        for (int c = 0; c < 3; ++c) node_gradient_[4 * t + 1 + c] = d_edges.col(c);
-      }
-      block_sums_[b] = total;
-    });
-    grad.resize(x.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, free_.size(), kBlock), [&](const auto& range) {
-      for (std::size_t k = range.begin(); k != range.end(); ++k) {
-        Vec3 sum = Vec3::Zero();
-        for (std::size_t e = incidence_offsets_[k]; e < incidence_offsets_[k + 1]; ++e)
-          sum += node_gradient_[incidence_[e]];
-        grad.segment<3>(3 * static_cast<Eigen::Index>(k)) = sum;
-      }
-    });
-    double total = 0;
-    for (const double s : block_sums_) total += s;
-    // The springs of the free surface points (anchor_[k] NaN for interior points).
-    for (std::size_t k = 0; k < free_.size(); ++k) {
+    double total = layout_.sum_with_gradient(
+        [&](std::size_t t) {
+          const Eigen::Matrix3d jacobian = edge_matrix(x, t) * reference_[t];
+          Vec3 ga, gb, gd;
+          const double energy = weight_[t] * detail::foldover_energy_3d(eps, jacobian.col(0), jacobian.col(1),
+                                                                        jacobian.col(2), ga, gb, gd);
+          // dE/dE_x = dE/dJ M^T, column c the gradient of node c + 1; node 0 takes minus their sum.
+          Eigen::Matrix3d d_jacobian;
+          d_jacobian << ga, gb, gd;
+          const Eigen::Matrix3d d_edges = weight_[t] * d_jacobian * reference_[t].transpose();
+          Vec3* g = layout_.node_gradient(t);
+          g[0] = -d_edges.rowwise().sum();
+          for (int c = 0; c < 3; ++c) g[1 + c] = d_edges.col(c);
+          return energy;
+        },
+        grad);
+    for (std::size_t k = 0; k < anchor_.size(); ++k) {
       if (std::isnan(anchor_[k][0])) continue;
-      const Vec3 offset = Vec3(x.segment<3>(3 * static_cast<Eigen::Index>(k))) - (anchor_[k] - origin_) * inv_unit_;
+      const Vec3 offset = Vec3(x.segment<3>(3 * static_cast<Eigen::Index>(k))) - anchor_[k];
       total += spring_ * offset.squaredNorm();
       grad.segment<3>(3 * static_cast<Eigen::Index>(k)) += 2 * spring_ * offset;
     }
@@ -146,53 +100,29 @@ class TetMapEnergy {
 
   /// The smallest det J, and (if given) how many tets have det J <= 0.
   double min_det(const Eigen::VectorXd& x, std::size_t* nonpositive = nullptr) {
-    std::vector<std::size_t> counts(block_sums_.size(), 0);
-    for_blocks([&](std::size_t b) {
-      double smallest = std::numeric_limits<double>::infinity();
-      for (std::size_t t = b * kBlock; t < std::min(tets_.size(), (b + 1) * kBlock); ++t) {
-        const std::array<Vec3, 4> p = nodes(x, t);
-        Eigen::Matrix3d edges;
-        for (int c = 0; c < 3; ++c) edges.col(c) = p[c + 1] - p[0];
-        const double det = (edges * reference_[t]).determinant();
-        smallest = std::min(smallest, det);
-        if (!(det > 0)) ++counts[b];
-      }
-      block_sums_[b] = smallest;
+    std::atomic<std::size_t> count{0};
+    const double smallest = layout_.minimum([&](std::size_t t) {
+      const double det = (edge_matrix(x, t) * reference_[t]).determinant();
+      if (!(det > 0)) count.fetch_add(1, std::memory_order_relaxed);
+      return det;
     });
-    if (nonpositive) {
-      *nonpositive = 0;
-      for (const std::size_t c : counts) *nonpositive += c;
-    }
-    return block_sums_.empty() ? 0.0 : *std::min_element(block_sums_.begin(), block_sums_.end());
+    if (nonpositive) *nonpositive = count.load();
+    return smallest;
   }
 
  private:
-  template <class F>
-  void for_blocks(F&& f) {
-    tbb::parallel_for(std::size_t{0}, block_sums_.size(), f);
-  }
-  std::array<Vec3, 4> nodes(const Eigen::VectorXd& x, std::size_t t) const {
-    std::array<Vec3, 4> p;
-    for (int i = 0; i < 4; ++i) {
-      const Index s = slots_[t][i];
-      p[i] = s == kInvalidIndex ? Vec3((parameter_[tets_[t][i]] - origin_) * inv_unit_)
-                                : Vec3(x.segment<3>(3 * static_cast<Eigen::Index>(s)));
-    }
-    return p;
+  Eigen::Matrix3d edge_matrix(const Eigen::VectorXd& x, std::size_t t) const {
+    const std::array<Vec3, 4> p = layout_.nodes(x, t);
+    Eigen::Matrix3d edges;
+    for (int c = 0; c < 3; ++c) edges.col(c) = p[c + 1] - p[0];
+    return edges;
   }
 
-  const std::vector<Vec3>& parameter_;
-  std::span<const Index> free_;
-  std::span<const Vec3> anchor_;
-  double spring_, inv_unit_;
-  Vec3 origin_;
-  std::vector<std::array<Index, 4>> tets_, slots_;
+  detail::FreePointElements<4> layout_;
+  std::vector<Vec3> anchor_;
+  double spring_;
   std::vector<Eigen::Matrix3d> reference_;
   std::vector<double> weight_;
-  std::vector<std::size_t> incidence_offsets_;
-  std::vector<Index> incidence_;  // 4 * tet + node
-  std::vector<Vec3> node_gradient_;
-  std::vector<double> block_sums_;
 };
 
 std::size_t count_flipped(const std::vector<Vec3>& parameter, const std::vector<std::array<Index, 4>>& tets) {
