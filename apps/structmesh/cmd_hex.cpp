@@ -131,7 +131,7 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
                    "more than 30 degrees stay put in the smoothing");
   command.add_flag("--untangle-map", settings->options.untangle_map_jointly,
                    "Untangle what stays flipped in the volumetric map jointly, the surface near it freed on springs "
-                   "(a flip-free parameterization on more models, for 20-90 s more)");
+                   "(a flip-free parameterization on more models, for 15 s to 4 minutes more)");
   command.add_flag("--no-padding", settings->no_padding, "No pillow layer under the boundary");
   command.add_flag("--no-align", settings->no_align, "Skip the principal-axes pre-alignment");
   command.add_flag("--repair", settings->repair,

@@ -276,8 +276,9 @@ struct HexOptions {
   bool retry_without_merging = true;
   /// What the map's untangling and star cavities leave flipped, untangled jointly with the
   /// surface freed on springs (untangle_tet_map(), --untangle-map). Off by default: it clears
-  /// fertility's map (27 flipped tets to 0) and nearly the kitten's (16 to 1) but costs 20-90 s
-  /// a model, and leaves the screwdriver's and kitten_40k's, where the surface map folds.
+  /// fertility's map (27 flipped tets to 0) and nearly the kitten's (16 to 1) but costs 15 s to
+  /// 4 minutes a model, and leaves most of the screwdriver's, kitten_40k's, the bunny's and
+  /// the dogs', where the surface map folds or Q squashes a thin part.
   bool untangle_map_jointly = false;
   HexSmoothingOptions smoothing;
   bool progress = false;
