@@ -12,7 +12,12 @@
 // Jacobians J = E_parameter E_source^-1 (scaled so that det J is 1 on average). With the
 // region's surface free a valid placement always exists (the rim of the region, where it
 // meets tets that stay as they are, is valid), and the barrier keeps every tet positive once
-// it is. Only the region's points move, so the map outside it is (5.1)'s.
+// it is. Only the region's points move; the map outside it does not change.
+//
+// In practice the continuation does not always find that placement: inside layers that the
+// map squashes to a thousandth of their volume (the screwdriver's blade, the dogs' thin parts)
+// the flipped tets stay, and rounds over 12 rings cost minutes on the large models. So it is
+// opt-in (--untangle-map); the measurements are in docs/design/hex.md.
 //
 // Hand-written on LBFGS++ for the same reason as untangle_hexes.cpp: no Debian library
 // untangles a tet map.
