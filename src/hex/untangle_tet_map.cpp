@@ -194,25 +194,20 @@ TetMapUntangling untangle_tet_map(const TetMesh& source, std::vector<Vec3>& para
     // Free: the region's points whose tets all lie in the region's closure (so the rim, the
     // points with a tet reaching outside, holds the rest of the map in place).
     std::vector<Index> free;
-    std::vector<Vec3> anchor;
-    const Vec3 interior(std::numeric_limits<double>::quiet_NaN(), 0, 0);
     for (const Index v : region) {
       bool inner = true;
       for (const Index t : tets_of_point.row(v))
         for (const Index u : source.tets[t]) inner = inner && in_region[u];
-      if (!inner || (v < boundary_count && !surface_free)) continue;
-      free.push_back(v);
-      anchor.push_back(v < boundary_count ? boundary_targets[v] : interior);
+      if (inner && (v >= boundary_count || surface_free)) free.push_back(v);
     }
     if (free.empty()) continue;
     // Sorted, so the unknowns' order (and the result) does not depend on the growth's order.
-    std::vector<std::size_t> order(free.size());
-    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return free[a] < free[b]; });
-    std::vector<Index> sorted_free(free.size());
-    std::vector<Vec3> sorted_anchor(free.size());
-    for (std::size_t i = 0; i < order.size(); ++i) sorted_free[i] = free[order[i]], sorted_anchor[i] = anchor[order[i]];
-    TetMapEnergy energy(source, parameter, sorted_free, sorted_anchor, options.spring, unit, jacobian_scale);
+    std::sort(free.begin(), free.end());
+    // The springs' targets: a surface point's place on P, NaN for an interior point.
+    std::vector<Vec3> anchor(free.size(), Vec3(std::numeric_limits<double>::quiet_NaN(), 0, 0));
+    for (std::size_t k = 0; k < free.size(); ++k)
+      if (free[k] < boundary_count) anchor[k] = boundary_targets[free[k]];
+    TetMapEnergy energy(source, parameter, free, anchor, options.spring, unit, jacobian_scale);
     Eigen::VectorXd x = energy.initial();
     detail::FoldoverFreeSettings loop;
     loop.wolfe = false;
@@ -244,7 +239,7 @@ TetMapUntangling untangle_tet_map(const TetMesh& source, std::vector<Vec3>& para
     parameter.swap(trial);
     result.flipped_after = left;
     result.min_det_after = minimised.min_det_after;
-    result.free_points = sorted_free.size();
+    result.free_points = free.size();
     result.moved_boundary_points = 0;
     result.boundary_drift = 0;
     for (std::size_t v = 0; v < boundary_count; ++v) {
