@@ -2,8 +2,9 @@
 // Table 5.1's stage times for every closed model of the data set, at the dissertation's hex
 // counts where it has a row (10k hexes otherwise), beside its numbers.
 //   bench_hex DATA_DIR [MODEL...]
-// With BENCH_HEX_UNTANGLE_MAP=1 in the environment, with `--untangle-map` (HexOptions::
-// untangle_map_jointly), and the flipped-tets column ends with the joint untangling's count.
+// With BENCH_HEX_UNTANGLE_MAP=1 in the environment, with `--smooth-surface-map --untangle-map`
+// (HexOptions::smooth_surface_map, untangle_map_jointly), and the flipped-tets column ends with
+// the joint untangling's count.
 #include "../surface_models.hpp"
 #include "structmesh/check.hpp"
 #include "structmesh/error.hpp"
@@ -60,13 +61,14 @@ int main(int argc, char** argv) {
 
   std::printf(
       "| model | vertices | target | hexes | scaled Jacobian min / avg | 8-corner min | inverted | dihedral avg / std "
-      "| D_v | map's flipped tets: solved → untangled → star cavities%s | Q folded on P | D_g (1e-3) | N_h | corners; "
+      "| D_v | map's flipped tets: solved → untangled → star cavities%s | Q folded on P | surface map distortion | D_g "
+      "(1e-3) | N_h | corners; "
       "facet planes x/y/z | polycube s | tets + map s | grid + "
       "smoothing s | total "
       "s | dissertation "
       "(Table 5.2; 5.1 total) |\n",
       untangle_map ? " → joint untangling" : "");
-  std::printf("|---|---:|---:|---:|---|---:|---:|---|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---|\n");
+  std::printf("|---|---:|---:|---:|---|---:|---:|---|---:|---|---|---|---:|---:|---:|---:|---:|---:|---:|---|\n");
   for (const auto& path : models) {
     const std::string name = path.filename().string();
     const auto row = dissertation().find(name);
@@ -82,9 +84,9 @@ int main(int argc, char** argv) {
         const std::string what = bench::repair_label(repair);
         const SurfaceReport after = check_surface(to_bundle(surface));
         if (!after.valid_solid_boundary) {
-          std::printf("| %s | %zu | not a solid boundary, also after --repair (%s):%s; skipped |||||||||||||||| %s |\n",
-                      name.c_str(), surface.points.size(), what.c_str(), solid_boundary_problems(after).c_str(),
-                      anchor);
+          std::printf(
+              "| %s | %zu | not a solid boundary, also after --repair (%s):%s; skipped ||||||||||||||||| %s |\n",
+              name.c_str(), surface.points.size(), what.c_str(), solid_boundary_problems(after).c_str(), anchor);
           std::fflush(stdout);
           continue;
         }
@@ -93,6 +95,7 @@ int main(int argc, char** argv) {
       HexOptions options;
       options.target_hexes = target;
       options.untangle_map_jointly = untangle_map;
+      options.smooth_surface_map = untangle_map;  // the flip-free map needs both
       const auto start = std::chrono::steady_clock::now();
       const HexResult r = polycube_hex_mesh(surface, options);
       const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -118,22 +121,31 @@ int main(int argc, char** argv) {
         std::snprintf(buffer, sizeof buffer, "%zu → %zu → %zu", r.map.flipped_before_untangling,
                       r.flipped_repair.flipped_before, r.map.flipped);
       const std::string flipped = buffer;
+      // smooth_surface_map()'s energy (1 at best) and the worst area ratio, before -> after.
+      if (r.surface_map_smoothing.sweeps > 0)
+        std::snprintf(buffer, sizeof buffer, "%.2f → %.2f; %.0f → %.0f", r.surface_map_smoothing.energy_before,
+                      r.surface_map_smoothing.energy_after, r.surface_map_smoothing.worst_area_ratio_before,
+                      r.surface_map_smoothing.worst_area_ratio_after);
+      else
+        std::snprintf(buffer, sizeof buffer, "-");
+      const std::string distortion = buffer;
       std::printf(
-          "| %s | %zu | %zu | %zu | %.3f / %.3f | %.3f | %zu | %.2f / %.2f | %s | %s | %zu → %zu | %.3f | "
+          "| %s | %zu | %zu | %zu | %.3f / %.3f | %.3f | %zu | %.2f / %.2f | %s | %s | %zu → %zu | %s | %.3f | "
           "%zu | %s | %.1f | "
           "%.1f | "
           "%.1f | %.1f | %s |\n",
           label.c_str(), surface.points.size(), target, r.mesh.hexes.size(), q.scaled_jacobian_stats.min,
           q.scaled_jacobian_stats.mean, q.corner_scaled_jacobian_stats.min, q.inverted + q.invalid,
           q.dihedral_degrees.mean, q.dihedral_degrees.stddev, volume_distortion.c_str(), flipped.c_str(),
-          r.surface_map.folded_before, r.surface_map.folded_after, 1e3 * r.geometric_deviation, q.singular_vertices,
-          corners.c_str(), stage(r, "polycube (total)"),
-          stage(r, "tet mesh") + stage(r, "surface map") + stage(r, "volumetric map"),
+          r.surface_map.folded_before, r.surface_map.folded_after, distortion.c_str(), 1e3 * r.geometric_deviation,
+          q.singular_vertices, corners.c_str(), stage(r, "polycube (total)"),
+          stage(r, "tet mesh") + stage(r, "surface map") + stage(r, "surface map smoothing") +
+              stage(r, "volumetric map"),
           stage(r, "hex grid") + stage(r, "inverse map") + stage(r, "padding") + stage(r, "smoothing"), total, anchor);
     } catch (const std::exception& e) {
       std::string message = e.what();
       if (message.size() > 160) message = message.substr(0, 160) + "...";
-      std::printf("| %s | failed: %s |||||||||||||||||| %s |\n", name.c_str(), message.c_str(), anchor);
+      std::printf("| %s | failed: %s ||||||||||||||||||| %s |\n", name.c_str(), message.c_str(), anchor);
     }
     std::fflush(stdout);
   }

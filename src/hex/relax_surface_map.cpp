@@ -23,6 +23,7 @@
 // triangles without raising the function. When three sweeps unfold nothing, one more ring of
 // points around the folds is set free. Centroid steps alone (the first version) left 76 of the
 // hand's 303 folds and 252 of the rocker arm's 758; with the Gauss-Newton steps, none.
+#include "structmesh/error.hpp"
 #include "structmesh/hex.hpp"
 #include "structmesh/polycube.hpp"
 
@@ -31,6 +32,9 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <limits>
+#include <string>
 #include <vector>
 
 namespace structmesh {
@@ -45,6 +49,34 @@ struct Relaxation {
   double touching = 0;             // distance within which a point lies on a facet
   std::vector<Vec3> point_normal;  // per image point: the target's unit normal there
   CompressedRows triangles_of;
+  std::vector<double> least_area;  // per source triangle: the image area it should keep
+
+  Relaxation(const TriMesh& source_, std::vector<Vec3>& image_, const TriMesh& target,
+             const SurfaceProjection& onto_target_)
+      : source(source_),
+        image(image_),
+        onto_target(onto_target_),
+        triangles_of(build_vertex_elements(source_.triangles, image_.size())) {
+    facet_label.resize(target.triangles.size());
+    for (std::size_t t = 0; t < target.triangles.size(); ++t) {
+      const auto& tri = target.triangles[t];
+      const Vec3 normal =
+          (target.points[tri[1]] - target.points[tri[0]]).cross(target.points[tri[2]] - target.points[tri[0]]);
+      facet_label[t] = normal.squaredNorm() > 0 ? nearest_axis_label(normal) : -1;
+    }
+    Eigen::AlignedBox3d bounds;
+    for (const Vec3& p : target.points) bounds.extend(p);
+    touching = 1e-9 * bounds.diagonal().norm();
+    least_area.resize(source.triangles.size());
+    for (std::size_t t = 0; t < source.triangles.size(); ++t) {
+      const auto& tri = source.triangles[t];
+      least_area[t] =
+          0.05 * 0.5 *
+          (source.points[tri[1]] - source.points[tri[0]]).cross(source.points[tri[2]] - source.points[tri[0]]).norm();
+    }
+    point_normal.resize(image.size());
+    tbb::parallel_for(std::size_t{0}, image.size(), [&](std::size_t v) { project(image[v], point_normal[v]); });
+  }
 
   // The target's outward normal where the image of triangle `tri` lies: the mean of its
   // points' normals.
@@ -66,8 +98,6 @@ struct Relaxation {
     for (Index t : triangles_of.row(point)) worst = std::min(worst, orientation(t));
     return worst;
   }
-
-  std::vector<double> least_area;  // per source triangle: the image area it should keep
 
   // Knupp's untangling function on the surface: sum over the point's triangles of
   // (least area - signed area along the reference normal)^2 where positive, and (when asked)
@@ -98,7 +128,15 @@ struct Relaxation {
   // the facets it lies on (two on an edge of a polycube, three at a corner), so that a
   // triangle of one facet with points on two of its edges is still measured against it.
   Vec3 project(const Vec3& p, Vec3& normal) const {
-    const Vec3 q = onto_target.closest_point(p);
+    Index triangle = 0;
+    Vec3 barycentric;
+    const Vec3 q = onto_target.closest_point(p, &triangle, &barycentric);
+    // Inside a triangle of the target (not on its edges): on that facet alone, without the
+    // second query (the triangles near q) that finds the facets of an edge or corner point.
+    if (barycentric.minCoeff() > 1e-6 && facet_label[triangle] >= 0) {
+      normal = axis_of_label(facet_label[triangle]);
+      return q;
+    }
     thread_local std::vector<Index> near;
     near.clear();
     onto_target.triangles_near(q, touching, near);
@@ -117,27 +155,7 @@ struct Relaxation {
 SurfaceMapRelaxation relax_surface_map(const TriMesh& source, std::vector<Vec3>& image, const TriMesh& target,
                                        const SurfaceProjection& onto_target, int max_sweeps) {
   SurfaceMapRelaxation result;
-  Relaxation r{source, image, onto_target, {}, 0.0, {}, build_vertex_elements(source.triangles, image.size()), {}};
-  r.facet_label.resize(target.triangles.size());
-  for (std::size_t t = 0; t < target.triangles.size(); ++t) {
-    const auto& tri = target.triangles[t];
-    const Vec3 normal =
-        (target.points[tri[1]] - target.points[tri[0]]).cross(target.points[tri[2]] - target.points[tri[0]]);
-    r.facet_label[t] = normal.squaredNorm() > 0 ? nearest_axis_label(normal) : -1;
-  }
-  Eigen::AlignedBox3d bounds;
-  for (const Vec3& p : target.points) bounds.extend(p);
-  r.touching = 1e-9 * bounds.diagonal().norm();
-  r.least_area.resize(source.triangles.size());
-  for (std::size_t t = 0; t < source.triangles.size(); ++t) {
-    const auto& tri = source.triangles[t];
-    r.least_area[t] =
-        0.05 * 0.5 *
-        (source.points[tri[1]] - source.points[tri[0]]).cross(source.points[tri[2]] - source.points[tri[0]]).norm();
-  }
-  r.point_normal.resize(image.size());
-  tbb::parallel_for(std::size_t{0}, image.size(), [&](std::size_t v) { r.project(image[v], r.point_normal[v]); });
-
+  Relaxation r(source, image, target, onto_target);
   std::vector<std::uint8_t> free(image.size(), 0), moved(image.size(), 0), stuck(image.size(), 0);
   // Per triangle: folded or not, recomputed only for the triangles of points that moved (the
   // orientation of a triangle across an edge of P costs a closest-point query).
@@ -222,6 +240,250 @@ SurfaceMapRelaxation relax_surface_map(const TriMesh& source, std::vector<Vec3>&
     }
     result.folded_after = folded;
   }
+  result.moved_points = static_cast<std::size_t>(std::count(moved.begin(), moved.end(), 1));
+  return result;
+}
+
+// smooth_surface_map(): what the relaxation leaves is fold-free but far from a good map. Where
+// Q's chart border runs a few voxels off P's edge, the projection along the charts' axes
+// sends a thin strip of Q onto a whole band of P, and the triangles across the edge cover the
+// rest (the screwdriver: 1% of the boundary triangles stretched over 6.6 times their share
+// of the area, 0.1% over 44 times, and 1% shrunk below 1/50). The volumetric map keeps that
+// boundary, so the tets under it come out squashed by 10^-3 and some flip.
+//
+// Each point slides on P (steps in the plane of its facet, projected back onto P, so it may
+// cross P's edges) to lower a distortion energy of its triangles measured against their
+// shapes on the input, per triangle of reference area A and Jacobian J (2x2, from the
+// reference triangle onto its image's plane, det J signed along P's outward normal there):
+//   A * [ (1 - lambda) |J|^2 / (2 det J) + lambda (det J / d + d / det J) / 2 ],
+// the first term the MIPS conformal energy, the second an area term around d = the image's
+// total area over the reference's (so each triangle keeps its share of P), both 1 at best,
+// lambda = 1/2. Both terms grow without bound as det J -> 0, so a step that would fold a
+// triangle is never taken, and points of triangles that are still folded stay put (the
+// relaxation above owns those). A per-triangle energy needs no linear solve (the hard
+// constraint "on P" makes a global one piecewise), and points coloured so that no two of a
+// colour share a triangle move in parallel, the same way on any number of threads.
+SurfaceMapSmoothing smooth_surface_map(const TriMesh& reference, std::vector<Vec3>& image, const TriMesh& target,
+                                       const SurfaceProjection& onto_target, int max_sweeps) {
+  if (reference.points.size() != image.size())
+    throw InputError("smooth_surface_map: the reference has " + std::to_string(reference.points.size()) +
+                     " points, the image " + std::to_string(image.size()));
+  SurfaceMapSmoothing result;
+  Relaxation r(reference, image, target, onto_target);
+  const std::size_t triangles = reference.triangles.size();
+  // Per triangle: reference area and the cotangents of its angles (the Dirichlet energy
+  // A |J|^2 = 1/2 sum_i cot_i |image edge opposite i|^2).
+  std::vector<double> reference_area(triangles);
+  std::vector<std::array<double, 3>> cotangent(triangles);
+  for (std::size_t t = 0; t < triangles; ++t) {
+    const auto& tri = reference.triangles[t];
+    const double twice_area = (reference.points[tri[1]] - reference.points[tri[0]])
+                                  .cross(reference.points[tri[2]] - reference.points[tri[0]])
+                                  .norm();
+    reference_area[t] = 0.5 * twice_area;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3& at = reference.points[tri[k]];
+      const double dot = (reference.points[tri[(k + 1) % 3]] - at).dot(reference.points[tri[(k + 2) % 3]] - at);
+      cotangent[t][k] = twice_area > 0 ? dot / twice_area : 0.0;
+    }
+  }
+  constexpr double kAreaWeight = 0.5;  // lambda
+  const double inf = std::numeric_limits<double>::infinity();
+  // A triangle's image area, signed along P's outward normal o there: its full area while
+  // its normal is within 60 degrees of o, then its area along o (twice that, to be
+  // continuous), so that it still falls to zero as the triangle turns edge-on and the energy
+  // below stays a barrier. (The area along o alone shrank the triangles of a facet that touch
+  // P's edges, whose o leans 45 degrees off the facet's axis, by 30%.) With its gradient with
+  // respect to the triangle's point k, if asked.
+  auto image_area = [&](const std::array<Index, 3>& tri, int k, Vec3* gradient) {
+    const Vec3 outward = r.outward(tri);
+    const Vec3 normal = (image[tri[1]] - image[tri[0]]).cross(image[tri[2]] - image[tri[0]]);
+    const double along = normal.dot(outward), length = normal.norm();
+    const bool full = along >= 0.5 * length && length > 0;
+    if (gradient) {
+      const Vec3 edge = image[tri[(k + 2) % 3]] - image[tri[(k + 1) % 3]];
+      *gradient = full ? Vec3(0.5 * (normal / length).cross(edge)) : Vec3(outward.cross(edge));
+    }
+    return full ? 0.5 * length : along;
+  };
+  auto signed_image_area = [&](std::size_t t) { return image_area(reference.triangles[t], 0, nullptr); };
+  double total_image = 0, total_reference = 0;
+  for (std::size_t t = 0; t < triangles; ++t) {
+    total_image += std::abs(signed_image_area(t));
+    total_reference += reference_area[t];
+  }
+  if (!(total_reference > 0) || !(total_image > 0)) return result;
+  const double share = total_image / total_reference;  // d
+  // The energy of triangle t, and (if asked) its gradient with respect to its point `point`.
+  auto triangle_energy = [&](std::size_t t, Index point, Vec3* gradient) {
+    const auto& tri = reference.triangles[t];
+    if (!(reference_area[t] > 0)) return 0.0;
+    const Vec3 &p0 = image[tri[0]], &p1 = image[tri[1]], &p2 = image[tri[2]];
+    const int k = tri[0] == point ? 0 : tri[1] == point ? 1 : 2;
+    Vec3 d_area;
+    const double area = image_area(tri, k, gradient ? &d_area : nullptr);
+    if (!(area > 0)) return inf;
+    const auto& cot = cotangent[t];
+    const double dirichlet =
+        0.5 * (cot[0] * (p2 - p1).squaredNorm() + cot[1] * (p0 - p2).squaredNorm() + cot[2] * (p1 - p0).squaredNorm());
+    const double det = area / reference_area[t];
+    const double energy =
+        (1 - kAreaWeight) * dirichlet / (2 * det) + kAreaWeight * reference_area[t] * 0.5 * (det / share + share / det);
+    if (gradient) {
+      const Vec3& p = image[point];
+      const Vec3& next = image[tri[(k + 1) % 3]];
+      const Vec3& after = image[tri[(k + 2) % 3]];
+      const Vec3 d_dirichlet = -cot[(k + 1) % 3] * (after - p) - cot[(k + 2) % 3] * (next - p);
+      const Vec3 d_det = d_area / reference_area[t];
+      *gradient += (1 - kAreaWeight) * (d_dirichlet / (2 * det) - dirichlet / (2 * det * det) * d_det) +
+                   kAreaWeight * reference_area[t] * 0.5 * (1 / share - share / (det * det)) * d_det;
+    }
+    return energy;
+  };
+  auto point_energy = [&](Index point, Vec3* gradient) {
+    double sum = 0;
+    if (gradient) gradient->setZero();
+    for (const Index t : r.triangles_of.row(point)) sum += triangle_energy(t, point, gradient);
+    return sum;
+  };
+  auto total_energy = [&] {
+    double sum = 0;
+    for (std::size_t t = 0; t < triangles; ++t) {
+      const double energy = triangle_energy(t, reference.triangles[t][0], nullptr);
+      if (std::isfinite(energy)) sum += energy;  // folded triangles are not this function's
+    }
+    return sum;
+  };
+  auto worst_area_ratio = [&] {
+    double worst = 1;
+    for (std::size_t t = 0; t < triangles; ++t) {
+      if (!(reference_area[t] > 0)) continue;
+      const double det = signed_image_area(t) / reference_area[t] / share;
+      if (det > 0) worst = std::max({worst, det, 1 / det});
+    }
+    return worst;
+  };
+  result.energy_before = total_energy() / total_reference;
+  result.worst_area_ratio_before = worst_area_ratio();
+
+  // Colours: greedy, no two points of a triangle alike.
+  std::vector<int> colour(image.size(), -1);
+  int colours = 0;
+  {
+    std::vector<int> used;
+    for (std::size_t v = 0; v < image.size(); ++v) {
+      used.clear();
+      for (const Index t : r.triangles_of.row(static_cast<Index>(v)))
+        for (const Index u : reference.triangles[t])
+          if (colour[u] >= 0) used.push_back(colour[u]);
+      int c = 0;
+      while (std::find(used.begin(), used.end(), c) != used.end()) ++c;
+      colour[v] = c;
+      colours = std::max(colours, c + 1);
+    }
+  }
+  std::vector<std::vector<Index>> by_colour(static_cast<std::size_t>(colours));
+  for (std::size_t v = 0; v < image.size(); ++v)
+    if (r.triangles_of.row(static_cast<Index>(v)).size() > 0)
+      by_colour[static_cast<std::size_t>(colour[v])].push_back(static_cast<Index>(v));
+
+  constexpr double kSettled = 1.05;
+  std::vector<double> point_area(image.size(), 0.0);
+  for (std::size_t t = 0; t < triangles; ++t)
+    for (const Index v : reference.triangles[t]) point_area[v] += reference_area[t];
+  // Per point: the step length that last worked (grown after a success, halved per failure).
+  std::vector<double> step(image.size(), 0.0);
+  std::vector<std::uint8_t> moved(image.size(), 0);
+  // A point that found no step is tried again only after a neighbour moved (in this sweep
+  // or the last: moved_in_sweep holds the parity of the sweep it last moved in, 2 = never).
+  std::vector<std::uint8_t> stuck(image.size(), 0), moved_in_sweep(image.size(), 2);
+  int sweep_parity = 0;
+  auto neighbour_moved = [&](Index point) {
+    for (const Index t : r.triangles_of.row(point))
+      for (const Index u : reference.triangles[t])
+        if (u != point && moved_in_sweep[u] != 2) return true;
+    return false;
+  };
+  double energy = result.energy_before * total_reference;
+  for (int sweep = 0; sweep < max_sweeps; ++sweep) {
+    sweep_parity = sweep & 1;
+    // Forget the moves of two sweeps ago.
+    for (std::uint8_t& m : moved_in_sweep)
+      if (m == sweep_parity) m = 2;
+    for (const auto& points : by_colour)
+      tbb::parallel_for(std::size_t{0}, points.size(), [&](std::size_t i) {
+        const Index point = points[i];
+        Vec3 gradient;
+        const double before = point_energy(point, &gradient);
+        if (!std::isfinite(before)) return;  // a folded triangle: the relaxation's
+        // Most of the map is close to the energy's minimum, where a step gains little and
+        // costs closest-point queries on P: only points whose triangles are 1% above it move.
+        if (before < kSettled * point_area[point] || (stuck[point] && !neighbour_moved(point))) return;
+        if (!(gradient.squaredNorm() > 0)) return;
+        // Steps up to half the longest edge at the point: the barrier, not the step, keeps a
+        // triangle from folding (a step past an edge is rejected), and a point of a sliver
+        // limited by its shortest edge crept by 1e-3 of an edge per sweep (the bunny).
+        double longest = 0, sum = 0;
+        int edges = 0;
+        // The planes the point may slide in: its facet's, and those of the facets its
+        // neighbours lie on. A point on an edge of P (or a hair off it) reaches the facet
+        // across the edge only in that facet's plane: in its own, a strip of the bunny
+        // collapsed onto an edge of P stayed there.
+        std::array<Vec3, 8> planes;
+        std::size_t plane_count = 0;
+        auto add_plane = [&](const Vec3& normal) {
+          for (std::size_t i = 0; i < plane_count; ++i)
+            if ((planes[i] - normal).squaredNorm() < 1e-12) return;
+          if (plane_count < planes.size()) planes[plane_count++] = normal;
+        };
+        add_plane(r.point_normal[point]);
+        for (const Index t : r.triangles_of.row(point))
+          for (const Index u : reference.triangles[t]) {
+            if (u == point) continue;
+            const double edge = (image[u] - image[point]).norm();
+            longest = std::max(longest, edge), sum += edge, ++edges;
+            const Vec3& normal = r.point_normal[u];
+            for (int axis = 0; axis < 3; ++axis)  // the facets of an edge or corner point, one by one
+              if (std::abs(normal[axis]) > 0.3) add_plane(Vec3::Unit(axis) * (normal[axis] > 0 ? 1.0 : -1.0));
+          }
+        double& length_to_try = step[point];
+        if (!(length_to_try > 0)) length_to_try = 0.1 * sum / std::max(edges, 1);
+        length_to_try = std::min(length_to_try, 0.5 * longest);
+        const Vec3 old_position = image[point];
+        for (std::size_t plane = 0; plane < plane_count; ++plane) {
+          const Vec3& normal = planes[plane];
+          const Vec3 along = gradient - gradient.dot(normal) * normal;
+          if (!(along.squaredNorm() > 1e-24 * gradient.squaredNorm())) continue;
+          const Vec3 direction = -along.normalized();
+          double length = plane == 0 ? length_to_try : std::min(0.5 * longest, 4 * length_to_try);
+          for (int attempt = 0; attempt < (plane == 0 ? 10 : 6); ++attempt, length *= 0.5) {
+            const Vec3 candidate = old_position + length * direction;
+            Vec3 new_normal;
+            const Vec3 projected = r.project(candidate, new_normal);
+            if ((projected - candidate).norm() > length) continue;  // onto another sheet
+            image[point] = projected;
+            std::swap(r.point_normal[point], new_normal);
+            if (point_energy(point, nullptr) < before) {
+              moved[point] = 1, moved_in_sweep[point] = static_cast<std::uint8_t>(sweep_parity);
+              stuck[point] = 0;
+              length_to_try = 2 * length;
+              return;
+            }
+            image[point] = old_position;
+            std::swap(r.point_normal[point], new_normal);
+          }
+        }
+        length_to_try *= 0.5;  // nothing helped: smaller first steps next time
+        stuck[point] = 1;      // and no more tries until a neighbour has moved
+      });
+    ++result.sweeps;
+    const double now = total_energy();
+    const bool stalled = energy - now < 1e-4 * energy;
+    energy = now;
+    if (stalled) break;
+  }
+  result.energy_after = energy / total_reference;
+  result.worst_area_ratio_after = worst_area_ratio();
   result.moved_points = static_cast<std::size_t>(std::count(moved.begin(), moved.end(), 1));
   return result;
 }
