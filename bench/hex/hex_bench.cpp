@@ -123,7 +123,7 @@ int main(int argc, char** argv) {
       const std::string flipped = buffer;
       // smooth_surface_map()'s energy (1 at best) and the worst area ratio, before -> after.
       if (r.surface_map_smoothing.sweeps > 0)
-        std::snprintf(buffer, sizeof buffer, "%.2f → %.2f; %.0f → %.0f", r.surface_map_smoothing.energy_before,
+        std::snprintf(buffer, sizeof buffer, "%.3g → %.3g; %.3g → %.3g", r.surface_map_smoothing.energy_before,
                       r.surface_map_smoothing.energy_after, r.surface_map_smoothing.worst_area_ratio_before,
                       r.surface_map_smoothing.worst_area_ratio_after);
       else
