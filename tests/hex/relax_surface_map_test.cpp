@@ -1,6 +1,7 @@
 // relax_surface_map (§5.2.1's relaxation of the surface map onto the polycube): folds put into
 // the image of a subdivided box on the unit cube come out, the points stay on the cube, and a
 // map without folds is left as it is.
+#include "cube_image_check.hpp"
 #include "polycube/shapes.hpp"
 #include "structmesh/hex.hpp"
 
@@ -14,32 +15,9 @@
 namespace structmesh {
 namespace {
 
-// Triangles of the source whose three image points lie in one face of the unit cube and whose
-// image faces into the cube there (checked against the face's outward axis, not the
-// relaxation's own measure), and the largest distance of an image point from the cube's surface.
-struct ImageCheck {
-  std::size_t inward = 0;
-  double off_surface = 0;
-};
+using ImageCheck = test::CubeImageCheck;
 ImageCheck check(const TriMesh& source, const std::vector<Vec3>& image) {
-  ImageCheck result;
-  for (const Vec3& p : image) {
-    const Vec3 inside = p.cwiseMax(0.0).cwiseMin(1.0);
-    const double to_face = std::min(inside.minCoeff(), 1 - inside.maxCoeff());
-    result.off_surface = std::max(result.off_surface, (p - inside).norm() + to_face);
-  }
-  for (const auto& t : source.triangles) {
-    const Vec3 normal = (image[t[1]] - image[t[0]]).cross(image[t[2]] - image[t[0]]);
-    for (int axis = 0; axis < 3; ++axis)
-      for (const double side : {0.0, 1.0}) {
-        bool on_face = true;
-        for (const Index v : t) on_face = on_face && std::abs(image[v][axis] - side) < 1e-9;
-        if (!on_face) continue;
-        const double outward = side == 1.0 ? normal[axis] : -normal[axis];
-        if (!(outward > 0)) ++result.inward;
-      }
-  }
-  return result;
+  return test::check_cube_image(source, image);
 }
 
 TEST(RelaxSurfaceMap, AnUnfoldedMapStaysAsItIs) {
