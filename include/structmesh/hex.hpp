@@ -303,9 +303,10 @@ struct HexOptions {
   bool untangle_map_jointly = false;
   /// smooth_surface_map() on the map's boundary after §5.2.1's relaxation (--smooth-surface-map).
   /// Off by default: it halves the flipped tets the map keeps on most models (the bunny 57 ->
-  /// 32, kitten_40k 186 -> 68) and, with untangle_map_jointly, makes the kitten's and the
+  /// 32, kitten_40k 186 -> 64) and, with untangle_map_jointly, makes the kitten's and the
   /// screwdriver's maps flip-free; but it costs the bunny 8 s (over the 60 s target) and moves
-  /// single models' worst hex both ways (bunny 0.57 -> 0.66, fertility 0.64 -> 0.38).
+  /// single models' worst hex both ways (the bunny 0.57 -> 0.66, fertility 0.64 -> 0.60, and
+  /// 0.38 without the rounds).
   bool smooth_surface_map = false;
   /// With smooth_surface_map, while folds stay after it, up to this many more rounds of
   /// relaxation and smoothing (they stop when a round leaves as many folds as the last).

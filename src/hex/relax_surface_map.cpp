@@ -251,8 +251,8 @@ SurfaceMapRelaxation relax_surface_map(const TriMesh& source, std::vector<Vec3>&
 // of the area, 0.1% over 44 times, and 1% shrunk below 1/50). The volumetric map keeps that
 // boundary, so the tets under it come out squashed by 10^-3 and some flip.
 //
-// Each point slides on P (steps in the plane of its facet, projected back onto P, so it may
-// cross P's edges) to lower a distortion energy of its triangles measured against their
+// Each point slides on P (steps in the plane of its facet or of a neighbour's, projected back
+// onto P, so it may cross P's edges) to lower a distortion energy of its triangles measured against their
 // shapes on the input, per triangle of reference area A and Jacobian J (2x2, from the
 // reference triangle onto its image's plane, det J signed along P's outward normal there):
 //   A * [ (1 - lambda) |J|^2 / (2 det J) + lambda (det J / d + d / det J) / 2 ],
@@ -417,7 +417,7 @@ SurfaceMapSmoothing smooth_surface_map(const TriMesh& reference, std::vector<Vec
         const double before = point_energy(point, &gradient);
         if (!std::isfinite(before)) return;  // a folded triangle: the relaxation's
         // Most of the map is close to the energy's minimum, where a step gains little and
-        // costs closest-point queries on P: only points whose triangles are 1% above it move.
+        // costs closest-point queries on P: only points whose triangles are 5% above it move.
         if (before < kSettled * point_area[point] || (stuck[point] && !neighbour_moved(point))) return;
         if (!(gradient.squaredNorm() > 0)) return;
         // Steps up to half the longest edge at the point: the barrier, not the step, keeps a
