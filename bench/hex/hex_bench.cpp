@@ -61,7 +61,8 @@ int main(int argc, char** argv) {
 
   std::printf(
       "| model | vertices | target | hexes | scaled Jacobian min / avg | 8-corner min | inverted | dihedral avg / std "
-      "| D_v | map's flipped tets: solved → untangled → star cavities%s | Q folded on P | surface map distortion | D_g "
+      "| D_v | map's flipped tets: solved → untangled → star cavities%s | Q folded on P; branch points | surface map "
+      "distortion | D_g "
       "(1e-3) | N_h | corners; "
       "facet planes x/y/z | polycube s | tets + map s | grid + "
       "smoothing s | total "
@@ -130,15 +131,17 @@ int main(int argc, char** argv) {
         std::snprintf(buffer, sizeof buffer, "-");
       const std::string distortion = buffer;
       std::printf(
-          "| %s | %zu | %zu | %zu | %.3f / %.3f | %.3f | %zu | %.2f / %.2f | %s | %s | %zu → %zu | %s | %.3f | "
+          "| %s | %zu | %zu | %zu | %.3f / %.3f | %.3f | %zu | %.2f / %.2f | %s | %s | %zu → %zu; %zu → %zu | %s | "
+          "%.3f | "
           "%zu | %s | %.1f | "
           "%.1f | "
           "%.1f | %.1f | %s |\n",
           label.c_str(), surface.points.size(), target, r.mesh.hexes.size(), q.scaled_jacobian_stats.min,
           q.scaled_jacobian_stats.mean, q.corner_scaled_jacobian_stats.min, q.inverted + q.invalid,
           q.dihedral_degrees.mean, q.dihedral_degrees.stddev, volume_distortion.c_str(), flipped.c_str(),
-          r.surface_map.folded_before, r.surface_map.folded_after, distortion.c_str(), 1e3 * r.geometric_deviation,
-          q.singular_vertices, corners.c_str(), stage(r, "polycube (total)"),
+          r.surface_map.folded_before, r.surface_map.folded_after, r.surface_map.branched_before,
+          r.surface_map.branched_after, distortion.c_str(), 1e3 * r.geometric_deviation, q.singular_vertices,
+          corners.c_str(), stage(r, "polycube (total)"),
           stage(r, "tet mesh") + stage(r, "surface map") + stage(r, "surface map smoothing") +
               stage(r, "volumetric map"),
           stage(r, "hex grid") + stage(r, "inverse map") + stage(r, "padding") + stage(r, "smoothing"), total, anchor);

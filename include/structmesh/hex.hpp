@@ -93,6 +93,10 @@ struct SurfaceMapRelaxation {
   std::size_t moved_points = 0;
   int sweeps = 0;
   int rounds = 1;  ///< relaxations run (more when they alternate with smooth_surface_map())
+  /// Branch points (SurfaceMapDefects::branched_points) the fold relaxation left, and after
+  /// their regions were laid out afresh and relaxed again (unwound_regions times).
+  std::size_t branched_before = 0, branched_after = 0;
+  int unwound_regions = 0;
 };
 
 /// §5.2.1's local relaxation of a surface map onto a polycube: `image` holds, per point of
@@ -101,9 +105,42 @@ struct SurfaceMapRelaxation {
 /// mean facet axis of its points). The points of folded triangles, and more rings around
 /// them while the folds stay, move on the target towards their neighbours' centroid when that
 /// raises the worst orientation of their triangles, until nothing is folded or after
-/// `max_sweeps` sweeps.
+/// `max_sweeps` sweeps. Then branch points (a ring wound twice around its point with every
+/// triangle facing out, which the fold test does not see) have the region around them laid
+/// out afresh by barycentric positions on the target, and the folds that makes relaxed again,
+/// the region doubling up to 16 rings while branch points stay.
 SurfaceMapRelaxation relax_surface_map(const TriMesh& source, std::vector<Vec3>& image, const TriMesh& target,
                                        const SurfaceProjection& onto_target, int max_sweeps = 100);
+
+/// What keeps a surface map onto a polycube from being one-to-one.
+struct SurfaceMapDefects {
+  std::size_t folded = 0;  ///< triangles whose image faces into the target (as relax_surface_map())
+  /// Points whose image ring winds around them other than once, seen along the target's
+  /// normal there: twice at a branch point (the ring covers P twice with every triangle
+  /// facing out), never at a point of a one-to-one map.
+  std::size_t branched_points = 0;
+  /// The image triangles' total area over the target's, minus 1: at most 0 for a one-to-one
+  /// map (triangles across P's edges cut its corners), above 0 where the image covers P twice.
+  double area_excess = 0;
+};
+
+/// Measures `image` (per point of `source`, on `target`) for the defects above.
+SurfaceMapDefects surface_map_defects(const TriMesh& source, const std::vector<Vec3>& image, const TriMesh& target,
+                                      const SurfaceProjection& onto_target);
+
+struct SurfaceMapUnwinding {
+  std::size_t branched_before = 0, branched_after = 0;  ///< SurfaceMapDefects::branched_points
+  std::size_t moved_points = 0;                         ///< points of the regions laid out afresh
+};
+
+/// Lays out afresh the regions of `image` (per point of `source`, on `target`) within
+/// `rings` rings of its branch points: each point of a region goes to the projection onto the
+/// target of its neighbours' centroid, sweep after sweep with the region's rim held (Tutte's
+/// barycentric embedding, on the target), which winds once around every point. It may fold
+/// triangles where the rim is not convex: relax_surface_map(), which calls this while branch
+/// points stay, unfolds them. InputError when the sizes do not match or rings < 0.
+SurfaceMapUnwinding unwind_surface_map(const TriMesh& source, std::vector<Vec3>& image, const TriMesh& target,
+                                       const SurfaceProjection& onto_target, int rings = 2);
 
 struct SurfaceMapSmoothing {
   /// The distortion energy per unit of reference area, over the triangles that are not

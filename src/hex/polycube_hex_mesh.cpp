@@ -291,10 +291,13 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
       // get fewer.
       timer.stop("surface map");
       result.surface_map_smoothing = smooth_surface_map(aligned, on_p.points, p_triangles, onto_p);
-      for (int round = 0; round < options.surface_map_rounds && result.surface_map.folded_after > 0; ++round) {
+      auto defects = [](const SurfaceMapRelaxation& r) { return r.folded_after + r.branched_after; };
+      for (int round = 0; round < options.surface_map_rounds && defects(result.surface_map) > 0; ++round) {
         const SurfaceMapRelaxation again = relax_surface_map(q, on_p.points, p_triangles, onto_p, 30);
-        const bool fewer = again.folded_after < result.surface_map.folded_after;
+        const bool fewer = defects(again) < defects(result.surface_map);
         result.surface_map.folded_after = again.folded_after;
+        result.surface_map.branched_after = again.branched_after;
+        result.surface_map.unwound_regions += again.unwound_regions;
         result.surface_map.sweeps += again.sweeps;
         result.surface_map.moved_points = std::max(result.surface_map.moved_points, again.moved_points);
         ++result.surface_map.rounds;

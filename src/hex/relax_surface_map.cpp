@@ -23,6 +23,12 @@
 // triangles without raising the function. When three sweeps unfold nothing, one more ring of
 // points around the folds is set free. Centroid steps alone (the first version) left 76 of the
 // hand's 303 folds and 252 of the rocker arm's 758; with the Gauss-Newton steps, none.
+//
+// No fold is not yet one-to-one: a point's ring can wind twice around it with every triangle
+// facing out (a branch point; the orientation test measures a triangle against the mean
+// normal of its points, which near P's edges does not see the sheet turn over). The bunny's
+// relaxed map had no fold but 143 such points, and the volumetric map 57 flipped tets around
+// them; with the branch points laid out afresh (below), 17. surface_map_defects() counts them.
 #include "structmesh/error.hpp"
 #include "structmesh/hex.hpp"
 #include "structmesh/polycube.hpp"
@@ -34,12 +40,18 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <string>
 #include <vector>
 
 namespace structmesh {
 
 namespace {
+
+// The branch points' layout afresh (relax_surface_map()): up to this many attempts, the
+// region doubling from 2 rings, each this many sweeps of barycentric positions.
+constexpr int kUnwindAttempts = 4;
+constexpr int kUnwindSweeps = 200;
 
 struct Relaxation {
   const TriMesh& source;
@@ -91,6 +103,24 @@ struct Relaxation {
     const Vec3 reference = outward(tri);
     const double length = normal.norm() * reference.norm();
     return length > 0 ? normal.dot(reference) / length : 0.0;
+  }
+
+  // How many times the image of the point's ring winds around it, seen along the target's
+  // normal there: the signed angles its triangles span at it, in the plane across that
+  // normal, summed (0 for a point without a normal or triangles, counted as once).
+  long winding(Index point) const {
+    const Vec3& normal = point_normal[point];
+    if (triangles_of.row(point).empty() || !(normal.squaredNorm() > 0)) return 1;
+    double turn = 0;
+    for (const Index t : triangles_of.row(point)) {
+      const auto& tri = source.triangles[t];
+      const int k = tri[0] == point ? 0 : tri[1] == point ? 1 : 2;
+      Vec3 a = image[tri[(k + 1) % 3]] - image[point], b = image[tri[(k + 2) % 3]] - image[point];
+      a -= a.dot(normal) * normal;
+      b -= b.dot(normal) * normal;
+      turn += std::atan2(a.cross(b).dot(normal), a.dot(b));
+    }
+    return std::lround(turn / (2 * std::numbers::pi));
   }
 
   double worst_around(Index point) const {
@@ -150,6 +180,53 @@ struct Relaxation {
   }
 };
 
+// Per point: its image ring winds around it other than once.
+std::vector<std::uint8_t> branched_points(const Relaxation& r) {
+  std::vector<std::uint8_t> flag(r.image.size(), 0);
+  tbb::parallel_for(std::size_t{0}, r.image.size(),
+                    [&](std::size_t v) { flag[v] = r.winding(static_cast<Index>(v)) != 1; });
+  return flag;
+}
+
+// Branch points: a point whose ring winds twice around it with every triangle facing out
+// (and the points of winding 0 or -1 that balance it) is invisible to the orientation test,
+// yet the map covers P twice there and the tets under it must invert (measured: the bunny's
+// relaxed map had no fold but 143 such points, and the volumetric map 57 flipped tets around
+// them). No move that keeps every triangle facing out undoes a branch point, so its region
+// is laid out afresh: the points within `rings` rings of the `branched` ones go to the
+// projection onto P of their neighbours' centroid, sweep after sweep with the region's rim
+// held (Tutte's barycentric embedding, on P), which winds once; what that folds (a rim that
+// is not convex) the fold relaxation unfolds afterwards. Sets `moved` for the points it
+// moves (if given) and returns the region's points.
+std::vector<Index> lay_out_afresh(Relaxation& r, const std::vector<std::uint8_t>& branched, int rings,
+                                  std::vector<std::uint8_t>* moved) {
+  const auto& triangles = r.source.triangles;
+  std::vector<std::uint8_t> region = branched;
+  for (int ring = 0; ring < rings; ++ring) {
+    std::vector<std::uint8_t> grown = region;
+    for (const auto& tri : triangles)
+      if (region[tri[0]] || region[tri[1]] || region[tri[2]])
+        for (Index v : tri) grown[v] = 1;
+    region.swap(grown);
+  }
+  std::vector<Index> points;
+  for (std::size_t v = 0; v < region.size(); ++v)
+    if (region[v] && !r.triangles_of.row(static_cast<Index>(v)).empty()) points.push_back(static_cast<Index>(v));
+  // Gauss-Seidel sweeps in index order: the same result on any number of threads.
+  for (int sweep = 0; sweep < kUnwindSweeps; ++sweep)
+    for (const Index v : points) {
+      Vec3 centroid = Vec3::Zero();
+      int neighbours = 0;
+      for (Index t : r.triangles_of.row(v))
+        for (Index u : triangles[t])
+          if (u != v) centroid += r.image[u], ++neighbours;
+      r.image[v] = r.project(centroid / neighbours, r.point_normal[v]);
+    }
+  if (moved)
+    for (const Index v : points) (*moved)[v] = 1;
+  return points;
+}
+
 }  // namespace
 
 SurfaceMapRelaxation relax_surface_map(const TriMesh& source, std::vector<Vec3>& image, const TriMesh& target,
@@ -179,69 +256,140 @@ SurfaceMapRelaxation relax_surface_map(const TriMesh& source, std::vector<Vec3>&
   };
   result.folded_before = count_folded();
   result.folded_after = result.folded_before;
-  int rings = 1, stalled = 0;
-  constexpr int kMaxRings = 12;
-  for (int sweep = 0; sweep < max_sweeps && result.folded_after > 0; ++sweep) {
-    mark_free(rings);
-    for (std::size_t v = 0; v < image.size(); ++v) {
-      if (!free[v] || stuck[v]) continue;
-      const auto point = static_cast<Index>(v);
-      Vec3 centroid = Vec3::Zero();
-      int neighbours = 0;
-      for (Index t : r.triangles_of.row(point))
-        for (Index u : source.triangles[t])
-          if (u != point) centroid += image[u], ++neighbours;
-      if (neighbours == 0) continue;
-      centroid /= neighbours;
-      const double before = r.worst_around(point);
-      const Vec3 old_position = image[v], old_normal = r.point_normal[v];
-      bool kept = false;
-      Eigen::Matrix3d normal;
-      Vec3 rhs;
-      const double energy = r.untangle_energy(point, &normal, &rhs);
-      if (energy > 0) {
-        // Gauss-Newton in the plane of the point's facet, then back onto the target.
-        const Eigen::Matrix3d tangent = Eigen::Matrix3d::Identity() - old_normal * old_normal.transpose();  // unit
-        const Eigen::Matrix3d reduced = tangent * normal * tangent;
-        Vec3 step =
-            (reduced + (1e-6 * reduced.trace() + 1e-300) * Eigen::Matrix3d::Identity()).ldlt().solve(tangent * rhs);
-        for (int attempt = 0; attempt < 12 && step.allFinite(); ++attempt, step *= 0.5) {
-          image[v] = r.project(old_position + step, r.point_normal[v]);
-          if (r.untangle_energy(point, nullptr, nullptr) < energy) {
+  // The fold relaxation: sweeps over the points of folded triangles and rings around them.
+  auto relax_folds = [&] {
+    int sweeps_left = max_sweeps, rings = 1, stalled = 0;
+    constexpr int kMaxRings = 12;
+    for (; sweeps_left > 0 && result.folded_after > 0; --sweeps_left) {
+      mark_free(rings);
+      for (std::size_t v = 0; v < image.size(); ++v) {
+        if (!free[v] || stuck[v]) continue;
+        const auto point = static_cast<Index>(v);
+        Vec3 centroid = Vec3::Zero();
+        int neighbours = 0;
+        for (Index t : r.triangles_of.row(point))
+          for (Index u : source.triangles[t])
+            if (u != point) centroid += image[u], ++neighbours;
+        if (neighbours == 0) continue;
+        centroid /= neighbours;
+        const double before = r.worst_around(point);
+        const Vec3 old_position = image[v], old_normal = r.point_normal[v];
+        bool kept = false;
+        Eigen::Matrix3d normal;
+        Vec3 rhs;
+        const double energy = r.untangle_energy(point, &normal, &rhs);
+        if (energy > 0) {
+          // Gauss-Newton in the plane of the point's facet, then back onto the target.
+          const Eigen::Matrix3d tangent = Eigen::Matrix3d::Identity() - old_normal * old_normal.transpose();  // unit
+          const Eigen::Matrix3d reduced = tangent * normal * tangent;
+          Vec3 step =
+              (reduced + (1e-6 * reduced.trace() + 1e-300) * Eigen::Matrix3d::Identity()).ldlt().solve(tangent * rhs);
+          for (int attempt = 0; attempt < 12 && step.allFinite(); ++attempt, step *= 0.5) {
+            image[v] = r.project(old_position + step, r.point_normal[v]);
+            if (r.untangle_energy(point, nullptr, nullptr) < energy) {
+              kept = true;
+              break;
+            }
+          }
+        }
+        for (const double step : {1.0, 0.5, 0.25}) {
+          if (kept) break;
+          image[v] = r.project(old_position + step * (centroid - old_position), r.point_normal[v]);
+          if (r.worst_around(point) > before + 1e-9 && r.untangle_energy(point, nullptr, nullptr) <= energy) {
             kept = true;
             break;
           }
         }
+        if (kept) {
+          moved[v] = 1;
+          for (Index t : r.triangles_of.row(point)) {
+            folded_flag[t] = r.orientation(t) <= 0;
+            for (Index u : source.triangles[t]) stuck[u] = 0;
+          }
+        } else  // tried again only once a neighbour has moved
+          image[v] = old_position, r.point_normal[v] = old_normal, stuck[v] = 1;
       }
-      for (const double step : {1.0, 0.5, 0.25}) {
-        if (kept) break;
-        image[v] = r.project(old_position + step * (centroid - old_position), r.point_normal[v]);
-        if (r.worst_around(point) > before + 1e-9 && r.untangle_energy(point, nullptr, nullptr) <= energy) {
-          kept = true;
-          break;
-        }
+      ++result.sweeps;
+      const std::size_t folded = count_folded();
+      if (folded < result.folded_after)
+        stalled = 0;
+      else if (++stalled >= 3) {
+        if (rings == kMaxRings) break;  // the widest ring unfolded nothing for three sweeps
+        ++rings, stalled = 0;
       }
-      if (kept) {
-        moved[v] = 1;
-        for (Index t : r.triangles_of.row(point)) {
-          folded_flag[t] = r.orientation(t) <= 0;
-          for (Index u : source.triangles[t]) stuck[u] = 0;
-        }
-      } else  // tried again only once a neighbour has moved
-        image[v] = old_position, r.point_normal[v] = old_normal, stuck[v] = 1;
+      result.folded_after = folded;
     }
-    ++result.sweeps;
-    const std::size_t folded = count_folded();
-    if (folded < result.folded_after)
-      stalled = 0;
-    else if (++stalled >= 3) {
-      if (rings == kMaxRings) break;  // the widest ring unfolded nothing for three sweeps
-      ++rings, stalled = 0;
+  };
+  relax_folds();
+  // Then the branch points (lay_out_afresh()), the region doubling while some stay. An
+  // attempt is kept only if it leaves fewer folds and branch points together: on fertility,
+  // regions of 16 rings across P's edges folded more than the relaxation could unfold
+  // (130 branch points and 0 folds became 150 and 129).
+  std::vector<std::uint8_t> branched = branched_points(r);
+  auto count_branched = [&] { return static_cast<std::size_t>(std::count(branched.begin(), branched.end(), 1)); };
+  result.branched_before = count_branched();
+  for (int attempt = 0, rings = 2; attempt < kUnwindAttempts && count_branched() > 0; ++attempt, rings *= 2) {
+    const std::size_t defects_before = result.folded_after + count_branched();
+    const std::vector<Vec3> kept_image = image, kept_normal = r.point_normal;
+    const std::vector<std::uint8_t> kept_folded = folded_flag, kept_moved = moved, kept_branched = branched;
+    const int kept_sweeps = result.sweeps;
+    for (const Index v : lay_out_afresh(r, branched, rings, &moved))
+      for (Index t : r.triangles_of.row(v)) folded_flag[t] = r.orientation(t) <= 0;
+    std::fill(stuck.begin(), stuck.end(), 0);
+    result.folded_after = count_folded();
+    relax_folds();
+    branched = branched_points(r);
+    if (result.folded_after + count_branched() < defects_before) {
+      ++result.unwound_regions;
+      continue;
     }
-    result.folded_after = folded;
+    image = kept_image, r.point_normal = kept_normal;  // worse or no better: undone
+    folded_flag = kept_folded, moved = kept_moved, branched = kept_branched;
+    result.folded_after = count_folded(), result.sweeps = kept_sweeps;
   }
+  result.branched_after = count_branched();
   result.moved_points = static_cast<std::size_t>(std::count(moved.begin(), moved.end(), 1));
   return result;
+}
+
+SurfaceMapUnwinding unwind_surface_map(const TriMesh& source, std::vector<Vec3>& image, const TriMesh& target,
+                                       const SurfaceProjection& onto_target, int rings) {
+  if (source.points.size() != image.size())
+    throw InputError("unwind_surface_map: the source has " + std::to_string(source.points.size()) +
+                     " points, the image " + std::to_string(image.size()));
+  if (rings < 0) throw InputError("unwind_surface_map: " + std::to_string(rings) + " rings");
+  SurfaceMapUnwinding result;
+  Relaxation r(source, image, target, onto_target);
+  const std::vector<std::uint8_t> branched = branched_points(r);
+  result.branched_before = static_cast<std::size_t>(std::count(branched.begin(), branched.end(), 1));
+  if (result.branched_before > 0) result.moved_points = lay_out_afresh(r, branched, rings, nullptr).size();
+  const std::vector<std::uint8_t> after = branched_points(r);
+  result.branched_after = static_cast<std::size_t>(std::count(after.begin(), after.end(), 1));
+  return result;
+}
+
+SurfaceMapDefects surface_map_defects(const TriMesh& source, const std::vector<Vec3>& image, const TriMesh& target,
+                                      const SurfaceProjection& onto_target) {
+  if (source.points.size() != image.size())
+    throw InputError("surface_map_defects: the source has " + std::to_string(source.points.size()) +
+                     " points, the image " + std::to_string(image.size()));
+  std::vector<Vec3> copy = image;  // Relaxation works on a mutable image; nothing moves here
+  const Relaxation r(source, copy, target, onto_target);
+  SurfaceMapDefects defects;
+  double image_area = 0, target_area = 0;
+  for (std::size_t t = 0; t < source.triangles.size(); ++t) {
+    const auto& tri = source.triangles[t];
+    image_area += 0.5 * (image[tri[1]] - image[tri[0]]).cross(image[tri[2]] - image[tri[0]]).norm();
+    if (r.orientation(t) <= 0) ++defects.folded;
+  }
+  for (const auto& tri : target.triangles)
+    target_area +=
+        0.5 *
+        (target.points[tri[1]] - target.points[tri[0]]).cross(target.points[tri[2]] - target.points[tri[0]]).norm();
+  defects.area_excess = target_area > 0 ? image_area / target_area - 1 : 0.0;
+  const std::vector<std::uint8_t> branched = branched_points(r);
+  defects.branched_points = static_cast<std::size_t>(std::count(branched.begin(), branched.end(), 1));
+  return defects;
 }
 
 // smooth_surface_map(): what the relaxation leaves is fold-free but far from a good map. Where
@@ -366,7 +514,9 @@ SurfaceMapSmoothing smooth_surface_map(const TriMesh& reference, std::vector<Vec
   result.energy_before = total_energy() / total_reference;
   result.worst_area_ratio_before = worst_area_ratio();
 
-  // Colours: greedy, no two points of a triangle alike.
+  // Colours: greedy, no two points within two rings of each other alike, so that a moving
+  // point's ring and its neighbours' rings (whose windings a step must keep) hold no other
+  // point that moves at the same time.
   std::vector<int> colour(image.size(), -1);
   int colours = 0;
   {
@@ -375,7 +525,9 @@ SurfaceMapSmoothing smooth_surface_map(const TriMesh& reference, std::vector<Vec
       used.clear();
       for (const Index t : r.triangles_of.row(static_cast<Index>(v)))
         for (const Index u : reference.triangles[t])
-          if (colour[u] >= 0) used.push_back(colour[u]);
+          for (const Index t2 : r.triangles_of.row(u))
+            for (const Index w : reference.triangles[t2])
+              if (colour[w] >= 0) used.push_back(colour[w]);
       int c = 0;
       while (std::find(used.begin(), used.end(), c) != used.end()) ++c;
       colour[v] = c;
@@ -446,6 +598,17 @@ SurfaceMapSmoothing smooth_surface_map(const TriMesh& reference, std::vector<Vec
             for (int axis = 0; axis < 3; ++axis)  // the facets of an edge or corner point, one by one
               if (std::abs(normal[axis]) > 0.3) add_plane(Vec3::Unit(axis) * (normal[axis] > 0 ? 1.0 : -1.0));
           }
+        // A step must not wind a ring twice around its point (a branch point, which the
+        // barrier does not see where a triangle crosses an edge of P): the point's and its
+        // neighbours' rings wind around them no fewer times once than before.
+        auto unwound = [&] {
+          int count = r.winding(point) != 1;
+          for (const Index t : r.triangles_of.row(point))
+            for (const Index u : reference.triangles[t])
+              if (u != point) count += r.winding(u) != 1;
+          return count;
+        };
+        const int unwound_before = unwound();
         double& length_to_try = step[point];
         if (!(length_to_try > 0)) length_to_try = 0.1 * sum / std::max(edges, 1);
         length_to_try = std::min(length_to_try, 0.5 * longest);
@@ -463,7 +626,7 @@ SurfaceMapSmoothing smooth_surface_map(const TriMesh& reference, std::vector<Vec
             if ((projected - candidate).norm() > length) continue;  // onto another sheet
             image[point] = projected;
             std::swap(r.point_normal[point], new_normal);
-            if (point_energy(point, nullptr) < before) {
+            if (point_energy(point, nullptr) < before && unwound() <= unwound_before) {
               moved[point] = 1, moved_in_sweep[point] = static_cast<std::uint8_t>(sweep_parity);
               stuck[point] = 0;
               length_to_try = 2 * length;

@@ -83,6 +83,7 @@ TEST(SmoothSurfaceMap, AStripSqueezedOverAnEdgeMovesBack) {
   const ImageCheck before = check(source, image);
   ASSERT_EQ(before.inward, 0u);
   ASSERT_GT(before.worst_area_ratio, 2.5);
+  const SurfaceMapDefects defects_before = surface_map_defects(source, image, cube, onto_cube);
 
   const SurfaceMapSmoothing result = smooth_surface_map(source, image, cube, onto_cube);
   EXPECT_LT(result.energy_after, result.energy_before);
@@ -100,6 +101,11 @@ TEST(SmoothSurfaceMap, AStripSqueezedOverAnEdgeMovesBack) {
   }
   EXPECT_GT(highest_side, 0.8);
   EXPECT_GT(furthest_top, 0.8);
+  // Sliding over the edge wound no more rings other than once around their points (which
+  // the barrier alone does not see across an edge), nor folded a triangle.
+  const SurfaceMapDefects defects = surface_map_defects(source, image, cube, onto_cube);
+  EXPECT_LE(defects.folded, defects_before.folded);
+  EXPECT_LE(defects.branched_points, defects_before.branched_points);
 }
 
 TEST(SmoothSurfaceMap, FoldedTrianglesAreLeftToTheRelaxation) {
