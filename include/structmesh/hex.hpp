@@ -339,11 +339,11 @@ struct HexOptions {
   /// the dogs', where the surface map folds or Q squashes a thin part.
   bool untangle_map_jointly = false;
   /// smooth_surface_map() on the map's boundary after §5.2.1's relaxation (--smooth-surface-map).
-  /// Off by default: it halves the flipped tets the map keeps on most models (the bunny 57 ->
-  /// 32, kitten_40k 186 -> 64) and, with untangle_map_jointly, makes the kitten's and the
-  /// screwdriver's maps flip-free; but it costs the bunny 8 s (over the 60 s target) and moves
-  /// single models' worst hex both ways (the bunny 0.57 -> 0.66, fertility 0.64 -> 0.60, and
-  /// 0.38 without the rounds).
+  /// Off by default: with untangle_map_jointly it makes the map flip-free on 10 of the 12
+  /// bench models (the bunny, kitten_40k, the kitten and the screwdriver join the six that
+  /// are flip-free by default or nearly); but with the joint untangling it costs minutes on
+  /// the large models, and it moves single models' worst hex both ways (the bunny 0.57 ->
+  /// 0.66, fertility 0.64 -> 0.56).
   bool smooth_surface_map = false;
   /// With smooth_surface_map, while folds stay after it, up to this many more rounds of
   /// relaxation and smoothing (they stop when a round leaves as many folds as the last).
