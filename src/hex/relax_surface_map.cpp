@@ -53,6 +53,17 @@ namespace {
 constexpr int kUnwindAttempts = 4;
 constexpr int kUnwindSweeps = 200;
 
+// Adds to the flagged points `rings` rings of their neighbours (over `triangles`).
+void grow_by_rings(std::vector<std::uint8_t>& flagged, const std::vector<std::array<Index, 3>>& triangles, int rings) {
+  for (int ring = 0; ring < rings; ++ring) {
+    std::vector<std::uint8_t> grown = flagged;
+    for (const auto& tri : triangles)
+      if (flagged[tri[0]] || flagged[tri[1]] || flagged[tri[2]])
+        for (Index v : tri) grown[v] = 1;
+    flagged.swap(grown);
+  }
+}
+
 struct Relaxation {
   const TriMesh& source;
   std::vector<Vec3>& image;
@@ -202,13 +213,7 @@ std::vector<Index> lay_out_afresh(Relaxation& r, const std::vector<std::uint8_t>
                                   std::vector<std::uint8_t>* moved) {
   const auto& triangles = r.source.triangles;
   std::vector<std::uint8_t> region = branched;
-  for (int ring = 0; ring < rings; ++ring) {
-    std::vector<std::uint8_t> grown = region;
-    for (const auto& tri : triangles)
-      if (region[tri[0]] || region[tri[1]] || region[tri[2]])
-        for (Index v : tri) grown[v] = 1;
-    region.swap(grown);
-  }
+  grow_by_rings(region, triangles, rings);
   std::vector<Index> points;
   for (std::size_t v = 0; v < region.size(); ++v)
     if (region[v] && !r.triangles_of.row(static_cast<Index>(v)).empty()) points.push_back(static_cast<Index>(v));
@@ -246,13 +251,7 @@ SurfaceMapRelaxation relax_surface_map(const TriMesh& source, std::vector<Vec3>&
     for (std::size_t t = 0; t < source.triangles.size(); ++t)
       if (folded_flag[t])
         for (Index v : source.triangles[t]) free[v] = 1;
-    for (int ring = 0; ring < rings; ++ring) {
-      std::vector<std::uint8_t> grown = free;
-      for (const auto& tri : source.triangles)
-        if (free[tri[0]] || free[tri[1]] || free[tri[2]])
-          for (Index v : tri) grown[v] = 1;
-      free.swap(grown);
-    }
+    grow_by_rings(free, source.triangles, rings);
   };
   result.folded_before = count_folded();
   result.folded_after = result.folded_before;
