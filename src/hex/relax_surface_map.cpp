@@ -191,6 +191,10 @@ struct Relaxation {
   }
 };
 
+std::size_t count_set(const std::vector<std::uint8_t>& flags) {
+  return static_cast<std::size_t>(std::count(flags.begin(), flags.end(), 1));
+}
+
 // Per point: its image ring winds around it other than once.
 std::vector<std::uint8_t> branched_points(const Relaxation& r) {
   std::vector<std::uint8_t> flag(r.image.size(), 0);
@@ -244,7 +248,7 @@ SurfaceMapRelaxation relax_surface_map(const TriMesh& source, std::vector<Vec3>&
   std::vector<std::uint8_t> folded_flag(source.triangles.size());
   tbb::parallel_for(std::size_t{0}, source.triangles.size(),
                     [&](std::size_t t) { folded_flag[t] = r.orientation(t) <= 0; });
-  auto count_folded = [&] { return static_cast<std::size_t>(std::count(folded_flag.begin(), folded_flag.end(), 1)); };
+  auto count_folded = [&] { return count_set(folded_flag); };
   // Points of folded triangles and `rings` rings around them.
   auto mark_free = [&](int rings) {
     std::fill(free.begin(), free.end(), 0);
@@ -325,7 +329,7 @@ SurfaceMapRelaxation relax_surface_map(const TriMesh& source, std::vector<Vec3>&
   // regions of 16 rings across P's edges folded more than the relaxation could unfold
   // (130 branch points and 0 folds became 150 and 129).
   std::vector<std::uint8_t> branched = branched_points(r);
-  auto count_branched = [&] { return static_cast<std::size_t>(std::count(branched.begin(), branched.end(), 1)); };
+  auto count_branched = [&] { return count_set(branched); };
   result.branched_before = count_branched();
   // A map still folded on more than 2% of its triangles is beyond this (polycube_hex_mesh()
   // drops such a merged-plane map for the unmerged retry): laying out its thousands of branch
@@ -352,7 +356,7 @@ SurfaceMapRelaxation relax_surface_map(const TriMesh& source, std::vector<Vec3>&
     result.folded_after = count_folded(), result.sweeps = kept_sweeps;
   }
   result.branched_after = count_branched();
-  result.moved_points = static_cast<std::size_t>(std::count(moved.begin(), moved.end(), 1));
+  result.moved_points = count_set(moved);
   return result;
 }
 
@@ -365,10 +369,9 @@ SurfaceMapUnwinding unwind_surface_map(const TriMesh& source, std::vector<Vec3>&
   SurfaceMapUnwinding result;
   Relaxation r(source, image, target, onto_target);
   const std::vector<std::uint8_t> branched = branched_points(r);
-  result.branched_before = static_cast<std::size_t>(std::count(branched.begin(), branched.end(), 1));
+  result.branched_before = count_set(branched);
   if (result.branched_before > 0) result.moved_points = lay_out_afresh(r, branched, rings, nullptr).size();
-  const std::vector<std::uint8_t> after = branched_points(r);
-  result.branched_after = static_cast<std::size_t>(std::count(after.begin(), after.end(), 1));
+  result.branched_after = count_set(branched_points(r));
   return result;
 }
 
@@ -391,8 +394,7 @@ SurfaceMapDefects surface_map_defects(const TriMesh& source, const std::vector<V
         0.5 *
         (target.points[tri[1]] - target.points[tri[0]]).cross(target.points[tri[2]] - target.points[tri[0]]).norm();
   defects.area_excess = target_area > 0 ? image_area / target_area - 1 : 0.0;
-  const std::vector<std::uint8_t> branched = branched_points(r);
-  defects.branched_points = static_cast<std::size_t>(std::count(branched.begin(), branched.end(), 1));
+  defects.branched_points = count_set(branched_points(r));
   return defects;
 }
 
@@ -603,16 +605,16 @@ SurfaceMapSmoothing smooth_surface_map(const TriMesh& reference, std::vector<Vec
               if (std::abs(normal[axis]) > 0.3) add_plane(Vec3::Unit(axis) * (normal[axis] > 0 ? 1.0 : -1.0));
           }
         // A step must not wind a ring twice around its point (a branch point, which the
-        // barrier does not see where a triangle crosses an edge of P): the point's and its
-        // neighbours' rings wind around them no fewer times once than before.
-        auto unwound = [&] {
+        // barrier does not see where a triangle crosses an edge of P): of the point's and its
+        // neighbours' rings, no more may wind around their point other than once than before.
+        auto wound_wrongly = [&] {
           int count = r.winding(point) != 1;
           for (const Index t : r.triangles_of.row(point))
             for (const Index u : reference.triangles[t])
               if (u != point) count += r.winding(u) != 1;
           return count;
         };
-        const int unwound_before = unwound();
+        int wound_wrongly_before = -1;  // counted at the old place when a step first lowers the energy
         double& length_to_try = step[point];
         if (!(length_to_try > 0)) length_to_try = 0.1 * sum / std::max(edges, 1);
         length_to_try = std::min(length_to_try, 0.5 * longest);
@@ -630,7 +632,15 @@ SurfaceMapSmoothing smooth_surface_map(const TriMesh& reference, std::vector<Vec
             if ((projected - candidate).norm() > length) continue;  // onto another sheet
             image[point] = projected;
             std::swap(r.point_normal[point], new_normal);
-            if (point_energy(point, nullptr) < before && unwound() <= unwound_before) {
+            const bool lower = point_energy(point, nullptr) < before;
+            if (lower && wound_wrongly_before < 0) {
+              image[point] = old_position;  // the old place's count, with its normal
+              std::swap(r.point_normal[point], new_normal);
+              wound_wrongly_before = wound_wrongly();
+              image[point] = projected;
+              std::swap(r.point_normal[point], new_normal);
+            }
+            if (lower && wound_wrongly() <= wound_wrongly_before) {
               moved[point] = 1, moved_in_sweep[point] = static_cast<std::uint8_t>(sweep_parity);
               stuck[point] = 0;
               length_to_try = 2 * length;
@@ -651,7 +661,7 @@ SurfaceMapSmoothing smooth_surface_map(const TriMesh& reference, std::vector<Vec
   }
   result.energy_after = energy / total_reference;
   result.worst_area_ratio_after = worst_area_ratio();
-  result.moved_points = static_cast<std::size_t>(std::count(moved.begin(), moved.end(), 1));
+  result.moved_points = count_set(moved);
   return result;
 }
 
