@@ -35,13 +35,13 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 # BuildPolycube.CoversAPlateThinnerThanAVoxel). And fertility's hex mesh at 16k hexes (over
 # 10 minutes sanitized beside another build, 31 s plain): the fresh starts of the worst
 # cluster it exists for run sanitized in SmoothHexMesh.FreshStartsOfTheWorstCluster. And the
-# screwdriver's flip-free map (9 s plain, the whole pipeline with both opt-in steps): the
-# surface smoothing runs sanitized in the SmoothSurfaceMap tests, the joint untangling in the
-# UntangleTetMap ones.
+# screwdriver's and kitten_40k's flip-free maps (20-50 s plain each, the whole pipeline on
+# data models): the surface smoothing runs sanitized in the SmoothSurfaceMap tests, the joint
+# untangling in the UntangleTetMap ones.
 # And three partition tests that repeat what others run sanitized (CI took 44.4 of its 45
 # minutes with them; 210 s of sanitized test time): the pipe partitioned three times to
 # compare (PartitionRegion.DeterministicAndThreadIndependent; ASan and UBSan see no races),
 # the Key's CVT-GP at 32 parts (also in PartitionRegion.KeyAndPipeAllMethods), and the Gulf's
 # lon/lat partition in 64 parts (its projection runs sanitized in RealCoastline's Gulf in 2).
 ctest --output-on-failure -j "$(nproc)" --timeout 900 \
-  -E 'RealCoastline.*gulf_of_mexico_(8|16|ne10m_16)_parts|SamplePartition.EveryPartOfTheKeyIsEvenAtManySizes|ExactBisection.CvtGpFirstBisectionWithin15PercentOfExact|Paving.RandomPolygonsNeverFail|PolycubeHexMesh.ThinPartsFoldTheMergedMap.*|PolycubeHexMesh.FertilityAt16kHexesHasNoPoorHex|PolycubeHexMesh.ScrewdriverMapIsFlipFree.*|BuildPolycube.DataModelsOfGenusOneAndThree|BuildPolycube.ClosedDogWithEarsThinnerThanAVoxel|PartitionRegion.(DeterministicAndThreadIndependent|CvtGpMeetsTheBalanceTolerance|LonLatGulfIsProjectedAndConnected)'
+  -E 'RealCoastline.*gulf_of_mexico_(8|16|ne10m_16)_parts|SamplePartition.EveryPartOfTheKeyIsEvenAtManySizes|ExactBisection.CvtGpFirstBisectionWithin15PercentOfExact|Paving.RandomPolygonsNeverFail|PolycubeHexMesh.ThinPartsFoldTheMergedMap.*|PolycubeHexMesh.FertilityAt16kHexesHasNoPoorHex|PolycubeHexMesh.ScrewdriverMapIsFlipFree.*|PolycubeHexMesh.Kitten40kMapIsFlipFree.*|BuildPolycube.DataModelsOfGenusOneAndThree|BuildPolycube.ClosedDogWithEarsThinnerThanAVoxel|PartitionRegion.(DeterministicAndThreadIndependent|CvtGpMeetsTheBalanceTolerance|LonLatGulfIsProjectedAndConnected)'

@@ -51,7 +51,7 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
     std::vector<std::string> outputs;
     std::vector<double> view;
     HexOptions options;
-    bool no_padding = false, no_align = false, repair = false;
+    bool no_padding = false, no_align = false, repair = false, wide_map_untangling = false, no_map_untangling = false;
   };
   auto settings = std::make_shared<Settings>();
   command
@@ -135,9 +135,16 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
   command.add_flag("--features", settings->options.features,
                    "Keep sharp edges and corners of the input (CAD models): boundary points where the surface bends "
                    "more than 30 degrees stay put in the smoothing");
-  command.add_flag("--untangle-map", settings->options.untangle_map_jointly,
-                   "Untangle what stays flipped in the volumetric map jointly, the surface near it freed on springs "
-                   "(a flip-free parameterization on more models, for 15 s to 4 minutes more)");
+  CLI::Option* wide_untangling =
+      command.add_flag("--untangle-map", settings->wide_map_untangling,
+                       "Untangle what stays flipped in the volumetric map jointly over 3, 6 and 12 vertex rings rather "
+                       "than 3 (the surface near it freed on springs), also on the unmerged polycube's map: for up to "
+                       "minutes more where 3 rings do not do");
+  command
+      .add_flag("--no-untangle-map", settings->no_map_untangling,
+                "No joint untangling of what stays flipped in the volumetric map (by default over 3 vertex rings "
+                "around it, the surface there freed on springs)")
+      ->excludes(wide_untangling);
   command.add_flag("--smooth-surface-map", settings->options.smooth_surface_map,
                    "Smooth the distortion of the surface map onto the polycube (its stretched strips) before the "
                    "volumetric map: about half the flipped tets, flip-free maps on more models with --untangle-map, "
@@ -168,6 +175,11 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
     const nlohmann::json repaired = settings->repair ? repair_surface(surface, settings->input, global) : nullptr;
     HexOptions options = settings->options;
     options.padding = !settings->no_padding;
+    options.untangle_map_jointly = !settings->no_map_untangling;
+    if (settings->wide_map_untangling) {
+      options.map_untangling.rings = {3, 6, 12};
+      options.untangle_map_onto_q = true;
+    }
     options.polycube.align = !settings->no_align;
     options.progress = !global.quiet;
     HexResult result;
@@ -251,13 +263,15 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
                    {"star_cavity_tets_added", result.flipped_repair.added_tets},
                    {"largest_star_cavity_tets", result.flipped_repair.largest_cavity},
                    {"largest_star_cavity_rings", result.flipped_repair.largest_ring},
-                   {"flipped_after_star_cavities", result.map_untangling.flipped_before},
+                   {"flipped_after_star_cavities", result.flipped_repair.flipped_after},
                    {"joint_untangling_rounds", result.map_untangling.rounds},
                    {"joint_untangling_rings", result.map_untangling.rings},
                    {"joint_untangling_region_tets", result.map_untangling.region_tets},
                    {"joint_untangling_moved_boundary_points", result.map_untangling.moved_boundary_points},
                    {"joint_untangling_boundary_drift_edges", result.map_untangling.boundary_drift},
                    {"flipped", result.map.flipped},
+                   {"surface_map_smoothed_after_flips", result.surface_map_smoothed_after_flips},
+                   {"surface_map_smoothed_kept", result.surface_map_smoothed_kept},
                    {"grid_points_outside", result.interior_points_outside},
                    {"boundary_points_moved_to_facing_sheet", result.points_moved_to_facing_sheet},
                    {"surface_folded_before_relaxation", result.surface_map.folded_before},

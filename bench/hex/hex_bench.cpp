@@ -3,8 +3,7 @@
 // counts where it has a row (10k hexes otherwise), beside its numbers.
 //   bench_hex DATA_DIR [MODEL...]
 // With BENCH_HEX_UNTANGLE_MAP=1 in the environment, with `--smooth-surface-map --untangle-map`
-// (HexOptions::smooth_surface_map, untangle_map_jointly), and the flipped-tets column ends with
-// the joint untangling's count.
+// (HexOptions::smooth_surface_map, the joint untangling over 3, 6 and 12 rings).
 #include "../surface_models.hpp"
 #include "structmesh/check.hpp"
 #include "structmesh/error.hpp"
@@ -61,14 +60,14 @@ int main(int argc, char** argv) {
 
   std::printf(
       "| model | vertices | target | hexes | scaled Jacobian min / avg | 8-corner min | inverted | dihedral avg / std "
-      "| D_v | map's flipped tets: solved → untangled → star cavities%s | Q folded on P; branch points | surface map "
+      "| D_v | map's flipped tets: solved → untangled → star cavities → joint untangling | Q folded on P; branch "
+      "points | surface map "
       "distortion | D_g "
       "(1e-3) | N_h | corners; "
       "facet planes x/y/z | polycube s | tets + map s | grid + "
       "smoothing s | total "
       "s | dissertation "
-      "(Table 5.2; 5.1 total) |\n",
-      untangle_map ? " → joint untangling" : "");
+      "(Table 5.2; 5.1 total) |\n");
   std::printf("|---|---:|---:|---:|---|---:|---:|---|---:|---|---|---|---:|---:|---:|---:|---:|---:|---:|---|\n");
   for (const auto& path : models) {
     const std::string name = path.filename().string();
@@ -95,8 +94,11 @@ int main(int argc, char** argv) {
       }
       HexOptions options;
       options.target_hexes = target;
-      options.untangle_map_jointly = untangle_map;
-      options.smooth_surface_map = untangle_map;  // the flip-free map needs both
+      if (untangle_map) {
+        options.smooth_surface_map = true;
+        options.map_untangling.rings = {3, 6, 12};
+        options.untangle_map_onto_q = true;
+      }
       const auto start = std::chrono::steady_clock::now();
       const HexResult r = polycube_hex_mesh(surface, options);
       const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -115,20 +117,18 @@ int main(int argc, char** argv) {
                     : r.merging_retried ? " (merged, retry worse)"
                                         : "");
       const std::string corners = buffer;
-      if (untangle_map)
-        std::snprintf(buffer, sizeof buffer, "%zu → %zu → %zu → %zu", r.map.flipped_before_untangling,
-                      r.flipped_repair.flipped_before, r.flipped_repair.flipped_after, r.map.flipped);
-      else
-        std::snprintf(buffer, sizeof buffer, "%zu → %zu → %zu", r.map.flipped_before_untangling,
-                      r.flipped_repair.flipped_before, r.map.flipped);
+      std::snprintf(buffer, sizeof buffer, "%zu → %zu → %zu → %zu", r.map.flipped_before_untangling,
+                    r.flipped_repair.flipped_before, r.flipped_repair.flipped_after, r.map.flipped);
       const std::string flipped = buffer;
       // smooth_surface_map()'s energy (1 at best) and the worst area ratio, before -> after.
       if (r.surface_map_smoothing.sweeps > 0)
-        std::snprintf(buffer, sizeof buffer, "%.3g → %.3g; %.3g → %.3g", r.surface_map_smoothing.energy_before,
+        std::snprintf(buffer, sizeof buffer, "%.3g → %.3g; %.3g → %.3g%s", r.surface_map_smoothing.energy_before,
                       r.surface_map_smoothing.energy_after, r.surface_map_smoothing.worst_area_ratio_before,
-                      r.surface_map_smoothing.worst_area_ratio_after);
+                      r.surface_map_smoothing.worst_area_ratio_after,
+                      r.surface_map_smoothed_after_flips ? " (after flips)" : "");
       else
-        std::snprintf(buffer, sizeof buffer, "-");
+        std::snprintf(buffer, sizeof buffer, "%s",
+                      r.surface_map_smoothed_after_flips ? "- (after flips: not kept)" : "-");
       const std::string distortion = buffer;
       std::printf(
           "| %s | %zu | %zu | %zu | %.3f / %.3f | %.3f | %zu | %.2f / %.2f | %s | %s | %zu → %zu; %zu → %zu | %s | "

@@ -333,18 +333,26 @@ struct HexOptions {
   /// with merge_planes_within = 0 and keep the better (fewer inverted, then larger minimum).
   bool retry_without_merging = true;
   /// What the map's untangling and star cavities leave flipped, untangled jointly with the
-  /// surface freed on springs (untangle_tet_map(), --untangle-map). Off by default: it clears
-  /// fertility's map (27 flipped tets to 0) and nearly the kitten's (16 to 1) but costs 15 s to
-  /// 4 minutes a model, and leaves most of the screwdriver's, kitten_40k's, the bunny's and
-  /// the dogs', where the surface map folds or Q squashes a thin part.
-  bool untangle_map_jointly = false;
+  /// surface freed on springs (untangle_tet_map(); --no-untangle-map turns it off). On by
+  /// default over 3 vertex rings (`map_untangling.rings`): that clears the bunny's, fertility's
+  /// and the screwdriver's maps in 1-10 s. --untangle-map widens it to 3, 6 and 12 rings, which
+  /// costs up to minutes where 3 rings do not do (kitten_40k: 100 s, still flipped).
+  bool untangle_map_jointly = true;
+  TetMapUntanglingOptions map_untangling{.rings = {3}};
+  /// The joint untangling also on a map onto Q (the unmerged polycube's): off by default, as
+  /// there it frees nothing over 3 rings (the dogs' 234 and 123 flipped tets, 40 s each);
+  /// --untangle-map turns it on (over 12 rings dog0's 234 go to 124, in 4 minutes).
+  bool untangle_map_onto_q = false;
   /// smooth_surface_map() on the map's boundary after §5.2.1's relaxation (--smooth-surface-map).
-  /// Off by default: with untangle_map_jointly it makes the map flip-free on 10 of the 12
-  /// bench models (the bunny, kitten_40k, the kitten and the screwdriver join the six that
-  /// are flip-free by default or nearly); but with the joint untangling it costs minutes on
-  /// the large models, and it moves single models' worst hex both ways (the bunny 0.57 ->
-  /// 0.66, fertility 0.64 -> 0.56).
+  /// Off as a first step by default: it moves single models' worst hex both ways (the bunny
+  /// 0.62 -> 0.66, fertility 0.63 -> 0.56), and on fertility the map it gives keeps 5 flipped
+  /// tets where the unsmoothed one comes out flip-free. By default it runs only as the second
+  /// chance below.
   bool smooth_surface_map = false;
+  /// Without smooth_surface_map: where tets stay flipped after the joint untangling, the
+  /// surface map smoothed and the volumetric map made again, keeping the map with fewer
+  /// flipped tets (kitten_40k: 46 -> 0).
+  bool smooth_surface_map_if_flipped = true;
   /// With smooth_surface_map, while folds stay after it, up to this many more rounds of
   /// relaxation and smoothing (they stop when a round leaves as many folds as the last).
   int surface_map_rounds = 3;
@@ -395,6 +403,11 @@ struct HexResult {
   /// folded after its relaxation, so the first attempt stopped there and the mesh was made
   /// on the unmerged polycube (merging_retried and unmerged_kept are set too).
   bool merged_map_folded = false;
+  /// Tets stayed flipped, so the surface map was smoothed and the volumetric map made again
+  /// (HexOptions::smooth_surface_map_if_flipped) ...
+  bool surface_map_smoothed_after_flips = false;
+  /// ... and that map had fewer flipped tets, so it is the one used (else the first).
+  bool surface_map_smoothed_kept = false;
   std::vector<std::pair<std::string, double>> stage_seconds;
 };
 
