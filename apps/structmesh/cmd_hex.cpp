@@ -147,7 +147,7 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
       ->excludes(wide_untangling);
   command.add_flag("--smooth-surface-map", settings->options.smooth_surface_map,
                    "Smooth the distortion of the surface map onto the polycube (its stretched strips) before the "
-                   "volumetric map: about half the flipped tets, flip-free maps on more models with --untangle-map, "
+                   "first volumetric map (by default that runs only as a second chance, where tets stay flipped), "
                    "for 1-10 s more");
   command.add_flag("--no-padding", settings->no_padding, "No pillow layer under the boundary");
   command.add_flag("--no-align", settings->no_align, "Skip the principal-axes pre-alignment");

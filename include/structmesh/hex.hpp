@@ -293,20 +293,29 @@ struct TetMapUntanglingOptions {
   double spring = 1.0;
   int max_steps = 30;        ///< continuation steps (ε updates) per round
   int max_iterations = 200;  ///< L-BFGS iterations per step
+  /// A tet counts as flipped when its det J, normalised to average 1 over the mesh, is at
+  /// most this: a tet flattened to 1e-16 of its share passes a sign test but is no map (the
+  /// bunny's made D_v read 7e9).
+  double flat = 1e-6;
 };
 
 struct TetMapUntangling {
-  std::size_t flipped_before = 0, flipped_after = 0;
-  int rounds = 0, rings = 0;              ///< rounds run; vertex rings of the last
-  std::size_t region_tets = 0;            ///< tets of the last round's energy
-  std::size_t free_points = 0;            ///< free points of the last kept round
-  std::size_t moved_boundary_points = 0;  ///< boundary points off their targets afterwards
-  double boundary_drift = 0;              ///< largest distance of one from its target, in mean image edges
-  double min_det_after = 0;               ///< smallest det J of the last kept round
+  std::size_t flipped_before = 0, flipped_after = 0;  ///< flipped or flat (TetMapUntanglingOptions::flat)
+  int rounds = 0, rings = 0;                          ///< rounds run; vertex rings of the last
+  std::size_t region_tets = 0;                        ///< tets of the last round's energy
+  std::size_t free_points = 0;                        ///< free points of the last kept round
+  std::size_t moved_boundary_points = 0;              ///< boundary points off their targets afterwards
+  double boundary_drift = 0;                          ///< largest distance of one from its target, in mean image edges
+  double min_det_after = 0;                           ///< smallest det J of the last kept round
 };
 
-/// Joint untangling of what a map's untangling leaves flipped: the points within `rings`
-/// vertex rings of the flipped tets whose tets all lie in that region move together, surface
+/// The tets of `source` whose image at `parameter` is inverted or flat: det J, normalised to
+/// average 1 over the mesh (image volume over source volume, times the source's total over
+/// the image's), at most `flat`. InputError when the sizes do not match.
+std::size_t flipped_or_flat_tets(const TetMesh& source, std::span<const Vec3> parameter, double flat = 1e-6);
+
+/// Joint untangling of what a map's untangling leaves flipped (or flat: options.flat): the
+/// points within `rings` vertex rings of those tets whose tets all lie in that region move together, surface
 /// points (index < boundary_count) included, by the continuation method of Garanzha et al.
 /// 2021 on the Jacobians J = E_parameter E_source^-1 of the region's tets, each freed surface
 /// point held near `boundary_targets[v]` by a spring. The map outside the region does not
@@ -371,7 +380,7 @@ struct HexResult {
   SurfaceMapRelaxation surface_map;
   /// smooth_surface_map() after that relaxation (empty when the map ends on Q).
   SurfaceMapSmoothing surface_map_smoothing;
-  VolumetricMap map;                ///< statistics of the map
+  VolumetricMap map;  ///< statistics of the map (its `flipped` counts flat tets too: TetMapUntanglingOptions::flat)
   FlippedTetRepair flipped_repair;  ///< the re-triangulation of what the map's untangling left flipped
   TetMapUntangling map_untangling;  ///< the joint untangling of what the star cavities left flipped
   double hex_size = 0;              ///< the grid's target edge length in the parameter domain

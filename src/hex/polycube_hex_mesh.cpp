@@ -336,20 +336,23 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
     if (result.map.flipped > 0) {
       result.flipped_repair = repair_flipped_tets(result.tets, result.map.parameter);
       result.map.flipped = result.flipped_repair.flipped_after;
-      if (result.map.flipped > 0 && options.untangle_map_jointly && (map_onto_p || options.untangle_map_onto_q)) {
-        // What stays flipped lies where the map's surface folds on P: the region's surface
-        // points are freed too (held near P by springs) and the region untangled jointly.
-        const std::vector<Vec3>& targets = map_onto_p ? on_p.points : q.points;
-        timer.stop("volumetric map" + suffix);
-        result.map_untangling =
-            untangle_tet_map(result.tets, result.map.parameter, targets.size(), targets, options.map_untangling);
-        result.map.flipped = result.map_untangling.flipped_after;
-        result.map.released_boundary_points =
-            std::max(result.map.released_boundary_points, result.map_untangling.moved_boundary_points);
-      }
-      if (result.map.flipped == 0)
-        result.map.volume_distortion = volume_distortion(result.tets, TetMesh{result.map.parameter, result.tets.tets});
     }
+    // From here on a flat tet counts as flipped: the untangling stages above test the sign
+    // only, and the bunny's map kept a tet at 1e-16 of its share of the volume (D_v 7e9).
+    result.map.flipped = flipped_or_flat_tets(result.tets, result.map.parameter, options.map_untangling.flat);
+    if (result.map.flipped > 0 && options.untangle_map_jointly && (map_onto_p || options.untangle_map_onto_q)) {
+      // What stays flipped lies where the map's surface folds on P: the region's surface
+      // points are freed too (held near P by springs) and the region untangled jointly.
+      const std::vector<Vec3>& targets = map_onto_p ? on_p.points : q.points;
+      timer.stop("volumetric map" + suffix);
+      result.map_untangling =
+          untangle_tet_map(result.tets, result.map.parameter, targets.size(), targets, options.map_untangling);
+      result.map.flipped = result.map_untangling.flipped_after;
+      result.map.released_boundary_points =
+          std::max(result.map.released_boundary_points, result.map_untangling.moved_boundary_points);
+    }
+    result.map.volume_distortion =
+        result.map.flipped == 0 ? volume_distortion(result.tets, TetMesh{result.map.parameter, result.tets.tets}) : 0;
     timer.stop(result.map_untangling.rounds > 0 ? "volumetric map (joint untangling)" + suffix
                                                 : "volumetric map" + suffix);
   };

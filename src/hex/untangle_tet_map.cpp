@@ -132,14 +132,39 @@ class TetMapEnergy {
   std::vector<double> weight_;
 };
 
-std::size_t count_flipped(const std::vector<Vec3>& parameter, const std::vector<std::array<Index, 4>>& tets) {
+// The tets whose image is inverted or flat: det J, normalised so that it averages 1 over the
+// mesh, at most `flat` (0: inverted or zero volume only).
+std::size_t count_flipped(const TetMesh& source, std::span<const Vec3> parameter, double flat,
+                          std::vector<std::uint8_t>* flags = nullptr) {
+  double source_volume = 0, image_volume = 0;
+  for (const auto& tet : source.tets) {
+    source_volume += std::abs(tet_signed_volume(source.points, tet));
+    image_volume +=
+        std::abs(tet_signed_volume(parameter[tet[0]], parameter[tet[1]], parameter[tet[2]], parameter[tet[3]]));
+  }
+  const double scale = image_volume > 0 ? source_volume / image_volume : 1.0;
   std::size_t flipped = 0;
-  for (const auto& tet : tets)
-    if (!(tet_signed_volume(parameter, tet) > 0)) ++flipped;
+  if (flags) flags->assign(source.tets.size(), 0);
+  for (std::size_t t = 0; t < source.tets.size(); ++t) {
+    const auto& tet = source.tets[t];
+    const double image = tet_signed_volume(parameter[tet[0]], parameter[tet[1]], parameter[tet[2]], parameter[tet[3]]);
+    const double own = std::abs(tet_signed_volume(source.points, tet));
+    if (!(image > 0) || !(image * scale > flat * own)) {
+      ++flipped;
+      if (flags) (*flags)[t] = 1;
+    }
+  }
   return flipped;
 }
 
 }  // namespace
+
+std::size_t flipped_or_flat_tets(const TetMesh& source, std::span<const Vec3> parameter, double flat) {
+  if (parameter.size() != source.points.size())
+    throw InputError("flipped_or_flat_tets: " + std::to_string(parameter.size()) + " parameter positions for " +
+                     std::to_string(source.points.size()) + " points");
+  return count_flipped(source, parameter, flat);
+}
 
 TetMapUntangling untangle_tet_map(const TetMesh& source, std::vector<Vec3>& parameter, std::size_t boundary_count,
                                   std::span<const Vec3> boundary_targets, const TetMapUntanglingOptions& options) {
@@ -151,9 +176,8 @@ TetMapUntangling untangle_tet_map(const TetMesh& source, std::vector<Vec3>& para
                      std::to_string(boundary_count) + " boundary points");
   TetMapUntangling result;
   const std::size_t point_count = source.points.size();
-  std::vector<std::uint8_t> flipped(source.tets.size(), 0);
-  for (std::size_t t = 0; t < source.tets.size(); ++t)
-    if (!(tet_signed_volume(parameter, source.tets[t]) > 0)) flipped[t] = 1, ++result.flipped_before;
+  std::vector<std::uint8_t> flipped;
+  result.flipped_before = count_flipped(source, parameter, options.flat, &flipped);
   result.flipped_after = result.flipped_before;
   if (result.flipped_before == 0) return result;
 
@@ -236,7 +260,7 @@ TetMapUntangling untangle_tet_map(const TetMesh& source, std::vector<Vec3>& para
     ++result.rounds;
     result.rings = rings;
     result.region_tets = energy.tet_count();
-    const std::size_t left = count_flipped(trial, source.tets);
+    const std::size_t left = count_flipped(source, trial, options.flat);
     if (left >= result.flipped_after) continue;  // kept only when it gains
     parameter.swap(trial);
     result.flipped_after = left;

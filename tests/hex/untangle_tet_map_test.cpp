@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <vector>
 
 namespace structmesh {
@@ -74,6 +75,40 @@ TEST(UntangleTetMap, SurfaceFoldFreesTheSurfaceNearItAndLeavesTheRestAlone) {
   EXPECT_GT(moved, 0u);
   EXPECT_LE(moved, untangled.free_points);
   EXPECT_LT(untangled.free_points, parameter.size() / 2);
+}
+
+TEST(UntangleTetMap, AFlatTetCountsAsFlippedAndIsMended) {
+  // An interior point moved to a billionth of its height above the opposite face of one of its
+  // tets: that tet keeps a positive volume, which a sign test passes, but it is flat.
+  const TriMesh box = test::subdivided_box(2, 2, 2, 8);
+  const TetMesh tets = solid(box);
+  const std::size_t boundary_count = box.points.size();
+  const std::size_t v = nearest_point(tets.points, boundary_count, tets.points.size(), Vec3(1, 1, 1));
+  std::vector<Vec3> parameter;
+  bool placed = false;
+  for (const auto& tet : tets.tets) {
+    if (std::find(tet.begin(), tet.end(), static_cast<Index>(v)) == tet.end()) continue;
+    Vec3 centroid = Vec3::Zero();
+    for (const Index u : tet)
+      if (u != v) centroid += tets.points[u] / 3;
+    parameter = tets.points;
+    parameter[v] = centroid + 1e-9 * (tets.points[v] - centroid);
+    if (flipped(tets, parameter) == 0) {  // no other tet of v inverted by the move
+      placed = true;
+      break;
+    }
+  }
+  ASSERT_TRUE(placed);
+  EXPECT_EQ(flipped_or_flat_tets(tets, parameter, 0), 0u);  // the sign alone
+  ASSERT_EQ(flipped_or_flat_tets(tets, parameter), 1u);
+  const std::vector<Vec3> targets(box.points.begin(), box.points.end());
+  const TetMapUntangling untangled = untangle_tet_map(tets, parameter, boundary_count, targets);
+  EXPECT_EQ(untangled.flipped_before, 1u);
+  EXPECT_EQ(untangled.flipped_after, 0u);
+  EXPECT_EQ(flipped_or_flat_tets(tets, parameter), 0u);
+  EXPECT_EQ(untangled.moved_boundary_points, 0u);
+  parameter.pop_back();
+  EXPECT_THROW(flipped_or_flat_tets(tets, parameter), InputError);
 }
 
 TEST(UntangleTetMap, NothingToDoOnAValidMapAndMismatchedSizesAreRejected) {
