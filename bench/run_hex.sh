@@ -2,7 +2,8 @@
 # Runs the polycube hex meshing benchmark (chapter 5: Table 5.2's measures and Table 5.1's
 # stage times at the dissertation's hex counts) and stores the Markdown in bench/results/hex.md.
 # With --untangle-map: the same with `structmesh hex --smooth-surface-map --untangle-map` (the
-# surface map's distortion smoothed, the volumetric map untangled jointly), into
+# surface map's distortion smoothed before the first volumetric map, the joint untangling over
+# 3, 6 and 12 rings and on the unmerged polycube's map too), into
 # bench/results/hex_untangle_map.md.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -23,12 +24,12 @@ fi
   echo "# $title"
   echo
   if [[ $untangle == 1 ]]; then
-    echo "The same run as [hex.md](hex.md) with the two opt-in steps towards a flip-free volumetric map:"
-    echo "the surface map's distortion smoothed (\`--smooth-surface-map\`, \`smooth_surface_map()\`, with up"
-    echo "to 3 more rounds of relaxation and smoothing while folds stay) and the joint untangling of what"
-    echo "stays flipped (\`--untangle-map\`, \`untangle_tet_map()\`). The flipped-tets column gains the joint"
-    echo "untangling's count, and the times include both. They are off by default for their cost"
-    echo "(docs/design/hex.md)."
+    echo "The same run as [hex.md](hex.md) with the two opt-in steps: the surface map's distortion"
+    echo "smoothed before the first volumetric map (\`--smooth-surface-map\`, \`smooth_surface_map()\`, with up"
+    echo "to 3 more rounds of relaxation and smoothing while folds stay; by default it runs only as a"
+    echo "second chance where tets stay flipped), and the joint untangling of what stays flipped over 3,"
+    echo "6 and 12 vertex rings instead of 3, also on the unmerged polycube's map (\`--untangle-map\`,"
+    echo "\`untangle_tet_map()\`). The times include both (docs/design/hex.md)."
     echo
   fi
   echo "Measured $(date -u +%Y-%m-%d) on this machine: $(nproc) cores, $(awk '/MemTotal/ {printf "%.0f GiB", $2/1048576}' /proc/meminfo)," \
