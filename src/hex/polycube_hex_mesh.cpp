@@ -351,8 +351,11 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
       result.map.released_boundary_points =
           std::max(result.map.released_boundary_points, result.map_untangling.moved_boundary_points);
     }
-    result.map.volume_distortion =
-        result.map.flipped == 0 ? volume_distortion(result.tets, TetMesh{result.map.parameter, result.tets.tets}) : 0;
+    // D_v as volumetric_map() measured it, unless a later step moved the map or found a flat tet.
+    if (result.map.flipped > 0)
+      result.map.volume_distortion = 0;
+    else if (result.flipped_repair.flipped_before > 0 || result.map_untangling.rounds > 0)
+      result.map.volume_distortion = volume_distortion(result.tets, TetMesh{result.map.parameter, result.tets.tets});
     timer.stop(result.map_untangling.rounds > 0 ? "volumetric map (joint untangling)" + suffix
                                                 : "volumetric map" + suffix);
   };

@@ -168,11 +168,7 @@ TEST(PolycubeHexMesh, ScrewdriverMapIsFlipFreeByDefault) {
   // volumetric map squashes the tets under them, and 4 stay flipped after the one-point
   // untangling and the star cavities. The joint untangling (on by default, 3 vertex rings,
   // the surface near them freed on springs) clears them.
-  const std::filesystem::path path = data_dir() / "surfaces" / "screwdriver.off";
-  if (!std::filesystem::exists(path)) throw std::runtime_error(path.string() + " missing: set STRUCTMESH_DATA");
-  HexOptions options;
-  options.target_hexes = 10000;
-  const HexResult result = polycube_hex_mesh(to_tri_mesh(read_mesh(path)), options);
+  const HexResult result = mesh_data_model("screwdriver.off", 10000);
   EXPECT_FALSE(result.unmerged_kept);  // the map onto the merged P
   EXPECT_GT(result.flipped_repair.flipped_after, 0u) << "nothing left for the joint untangling to do";
   EXPECT_GT(result.map_untangling.rounds, 0);
@@ -189,11 +185,7 @@ TEST(PolycubeHexMesh, Kitten40kMapIsFlipFreeOnceItsSurfaceMapIsSmoothed) {
   // volumetric map 46 flipped tets that the joint untangling over 3 rings does not free. The
   // second chance smooths the surface map's distortion and makes the volumetric map again:
   // that one is flip-free (its smoothing also spreads the branch points out).
-  const std::filesystem::path path = data_dir() / "surfaces" / "kitten_40k.off";
-  if (!std::filesystem::exists(path)) throw std::runtime_error(path.string() + " missing: set STRUCTMESH_DATA");
-  HexOptions options;
-  options.target_hexes = 16000;
-  const HexResult result = polycube_hex_mesh(to_tri_mesh(read_mesh(path)), options);
+  const HexResult result = mesh_data_model("kitten_40k.off", 16000);
   EXPECT_FALSE(result.unmerged_kept);
   EXPECT_TRUE(result.surface_map_smoothed_after_flips);
   EXPECT_TRUE(result.surface_map_smoothed_kept);
