@@ -293,6 +293,10 @@ struct TetMapUntanglingOptions {
   double spring = 1.0;
   int max_steps = 30;        ///< continuation steps (ε updates) per round
   int max_iterations = 200;  ///< L-BFGS iterations per step
+  /// Steps of a round after the first that leaves no tet flipped: they only reshape the
+  /// region's tets (the bunny's freed round was valid after 2 of its 30 steps, 0.5 of 6.3 s;
+  /// with 5 such steps fertility's mean hex fell 0.941 -> 0.939, with 10 it stays 0.940).
+  int max_steps_once_valid = 10;
   /// A tet counts as flipped when its det J, normalised to average 1 over the mesh, is at
   /// most this: a tet flattened to 1e-16 of its share passes a sign test but is no map (the
   /// bunny's made D_v read 7e9).
@@ -307,6 +311,7 @@ struct TetMapUntangling {
   std::size_t moved_boundary_points = 0;              ///< boundary points off their targets afterwards
   double boundary_drift = 0;                          ///< largest distance of one from its target, in mean image edges
   double min_det_after = 0;                           ///< smallest det J of the last kept round
+  int steps = 0;                                      ///< continuation steps of the last kept round
 };
 
 /// The tets of `source` whose image at `parameter` is inverted or flat: det J, normalised to

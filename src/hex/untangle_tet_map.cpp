@@ -240,6 +240,7 @@ TetMapUntangling untangle_tet_map(const TetMesh& source, std::vector<Vec3>& para
     loop.restore_on_failure = true;
     loop.max_steps = options.max_steps;
     loop.max_iterations = options.max_iterations;
+    loop.max_steps_once_valid = options.max_steps_once_valid;
     std::vector<Vec3> trial = parameter;
     // The loop keeps the placement with the largest smallest det J; the one with the fewest
     // flipped tets is kept here too, and wins while some stay flipped.
@@ -265,6 +266,7 @@ TetMapUntangling untangle_tet_map(const TetMesh& source, std::vector<Vec3>& para
     parameter.swap(trial);
     result.flipped_after = left;
     result.min_det_after = minimised.min_det_after;
+    result.steps = minimised.outer_iterations;
     result.free_points = free.size();
     result.moved_boundary_points = 0;
     result.boundary_drift = 0;

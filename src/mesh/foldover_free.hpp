@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <limits>
 
 namespace structmesh::detail {
 
@@ -60,6 +61,9 @@ struct FoldoverFreeSettings {
   /// After a failed line search, go back to where the step started if the energy rose
   /// (LBFGS++ throws with x at its last trial point).
   bool restore_on_failure = false;
+  /// Continuation steps after the first one that ends with every determinant positive (the
+  /// steps after it only improve the elements' shapes).
+  int max_steps_once_valid = std::numeric_limits<int>::max();
 };
 
 struct FoldoverFreeResult {
@@ -84,6 +88,7 @@ FoldoverFreeResult minimize_foldover_free(Eigen::VectorXd& x, double& eps, Energ
   param.delta = 1e-7;
   LBFGSpp::LBFGSSolver<double, LBFGSpp::LineSearchBacktracking> solver(param);
   Eigen::VectorXd gradient(x.size());
+  int valid_steps = 0;  // steps that ended valid
   for (int outer = 0; outer < settings.max_steps; ++outer) {
     result.outer_iterations = outer + 1;
     const double before = energy(x, gradient);
@@ -105,6 +110,7 @@ FoldoverFreeResult minimize_foldover_free(Eigen::VectorXd& x, double& eps, Energ
     const double mu = (1 - sigma) * foldover_chi(eps, detmin);
     eps = detmin < mu ? 2 * std::sqrt(mu * (mu - detmin)) : 1e-10;
     if (detmin > 0 && std::abs(before - after) <= 1e-4 * std::abs(after)) break;
+    if (detmin > 0 && ++valid_steps > settings.max_steps_once_valid) break;
   }
   x = best;
   result.min_det_after = best_detmin;

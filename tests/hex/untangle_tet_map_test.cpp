@@ -44,6 +44,31 @@ TEST(UntangleTetMap, InteriorFoldIsUntangledWithTheSurfacePinned) {
   for (std::size_t i = 0; i < boundary_count; ++i) EXPECT_EQ(parameter[i], targets[i]);
 }
 
+TEST(UntangleTetMap, ARoundStopsTheGivenNumberOfStepsAfterItsFirstValidOne) {
+  const TriMesh box = test::subdivided_box(2, 2, 2, 8);
+  const TetMesh tets = solid(box);
+  const std::size_t boundary_count = box.points.size();
+  std::vector<Vec3> tangled = tets.points;
+  tangled[nearest_point(tets.points, boundary_count, tets.points.size(), Vec3(1, 1, 1))] += Vec3(0.4, 0.3, 0.1);
+  const std::vector<Vec3> targets(box.points.begin(), box.points.end());
+  const auto run = [&](int steps_once_valid) {
+    TetMapUntanglingOptions options;
+    options.max_steps_once_valid = steps_once_valid;
+    options.max_iterations = 2;  // short steps, so that the reshaping takes several
+    std::vector<Vec3> parameter = tangled;
+    const TetMapUntangling untangled = untangle_tet_map(tets, parameter, boundary_count, targets, options);
+    EXPECT_EQ(untangled.flipped_after, 0u);
+    EXPECT_EQ(flipped(tets, parameter), 0u);
+    return untangled.steps;
+  };
+  // Uncapped, the reshaping goes on after the fold is undone; capped at 0 the round ends with
+  // its first valid step, and at 1 one step later.
+  const int uncapped = run(1000), first_valid = run(0);
+  EXPECT_GE(first_valid, 1);
+  EXPECT_GT(uncapped, first_valid + 1);
+  EXPECT_EQ(run(1), first_valid + 1);
+}
+
 TEST(UntangleTetMap, SurfaceFoldFreesTheSurfaceNearItAndLeavesTheRestAlone) {
   // A point of the top face pushed through the solid and out below its bottom: the target
   // surface crosses itself, no placement of the interior points is valid, and no star cavity
