@@ -370,13 +370,17 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
     if (options.progress)
       status("hex: " + std::to_string(result.map.flipped) +
              " tets stay flipped; again with the surface map's distortion smoothed");
+    // The tet mesh too: the star cavities of repair_flipped_tets() re-triangulate it and add
+    // points, so the first map's parameter belongs to the tets as the first map left them.
     struct Kept {
       std::vector<Vec3> on_p;
       SurfaceMapRelaxation surface_map;
       VolumetricMap map;
       FlippedTetRepair flipped_repair;
       TetMapUntangling map_untangling;
-    } first{on_p.points, result.surface_map, std::move(result.map), result.flipped_repair, result.map_untangling};
+      TetMesh tets;
+    } first{on_p.points,           result.surface_map,    std::move(result.map),
+            result.flipped_repair, result.map_untangling, result.tets};
     smooth_surface_on_p();
     map_options.boundary_positions = on_p.points;
     timer.stop("surface map smoothing (second chance)");
@@ -389,11 +393,15 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
       result.map = std::move(first.map);
       result.flipped_repair = first.flipped_repair;
       result.map_untangling = first.map_untangling;
+      result.tets = std::move(first.tets);
     } else {
       result.surface_map_smoothed_kept = true;
     }
   }
   result.parameter = result.map.parameter;
+  if (result.parameter.size() != result.tets.points.size())
+    throw Error("hex: the volumetric map has " + std::to_string(result.parameter.size()) + " points, its tet mesh " +
+                std::to_string(result.tets.points.size()));
 
   const HexMesh polycube_grid = polycube_hex_grid(polycube.voxels, result.hex_size);
   if (polycube_grid.hexes.empty()) throw Error("hex: the polycube has no voxels");
