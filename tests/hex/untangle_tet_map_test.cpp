@@ -24,16 +24,27 @@ std::size_t nearest_point(const std::vector<Vec3>& points, std::size_t begin, st
   return best;
 }
 
-TEST(UntangleTetMap, InteriorFoldIsUntangledWithTheSurfacePinned) {
-  const TriMesh box = test::subdivided_box(2, 2, 2, 8);
-  const TetMesh tets = solid(box);
-  const std::size_t boundary_count = box.points.size();
+// A box's tet mesh mapped to itself but for its interior point nearest the centre, pushed
+// far enough to fold its tets; the surface's targets are its own points.
+struct InteriorFold {
+  TriMesh box = test::subdivided_box(2, 2, 2, 8);
+  TetMesh tets = solid(box);
+  std::size_t boundary_count = box.points.size();
   std::vector<Vec3> parameter = tets.points;
-  const std::size_t moved = nearest_point(tets.points, boundary_count, tets.points.size(), Vec3(1, 1, 1));
-  parameter[moved] += Vec3(0.4, 0.3, 0.1);
+  std::vector<Vec3> targets{box.points.begin(), box.points.end()};
+  InteriorFold() {
+    parameter[nearest_point(tets.points, boundary_count, tets.points.size(), Vec3(1, 1, 1))] += Vec3(0.4, 0.3, 0.1);
+  }
+};
+
+TEST(UntangleTetMap, InteriorFoldIsUntangledWithTheSurfacePinned) {
+  InteriorFold fold;
+  const TetMesh& tets = fold.tets;
+  const std::size_t boundary_count = fold.boundary_count;
+  std::vector<Vec3>& parameter = fold.parameter;
+  const std::vector<Vec3>& targets = fold.targets;
   const std::size_t before = flipped(tets, parameter);
   ASSERT_GT(before, 0u);
-  const std::vector<Vec3> targets(box.points.begin(), box.points.end());
 
   const TetMapUntangling untangled = untangle_tet_map(tets, parameter, boundary_count, targets);
   EXPECT_EQ(untangled.flipped_before, before);
@@ -45,20 +56,15 @@ TEST(UntangleTetMap, InteriorFoldIsUntangledWithTheSurfacePinned) {
 }
 
 TEST(UntangleTetMap, ARoundStopsTheGivenNumberOfStepsAfterItsFirstValidOne) {
-  const TriMesh box = test::subdivided_box(2, 2, 2, 8);
-  const TetMesh tets = solid(box);
-  const std::size_t boundary_count = box.points.size();
-  std::vector<Vec3> tangled = tets.points;
-  tangled[nearest_point(tets.points, boundary_count, tets.points.size(), Vec3(1, 1, 1))] += Vec3(0.4, 0.3, 0.1);
-  const std::vector<Vec3> targets(box.points.begin(), box.points.end());
-  const auto run = [&](int steps_once_valid) {
+  const auto run = [](int steps_once_valid) {
     TetMapUntanglingOptions options;
     options.max_steps_once_valid = steps_once_valid;
     options.max_iterations = 2;  // short steps, so that the reshaping takes several
-    std::vector<Vec3> parameter = tangled;
-    const TetMapUntangling untangled = untangle_tet_map(tets, parameter, boundary_count, targets, options);
+    InteriorFold fold;
+    const TetMapUntangling untangled =
+        untangle_tet_map(fold.tets, fold.parameter, fold.boundary_count, fold.targets, options);
     EXPECT_EQ(untangled.flipped_after, 0u);
-    EXPECT_EQ(flipped(tets, parameter), 0u);
+    EXPECT_EQ(flipped(fold.tets, fold.parameter), 0u);
     return untangled.steps;
   };
   // Uncapped, the reshaping goes on after the fold is undone; capped at 0 the round ends with
