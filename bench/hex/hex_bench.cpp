@@ -2,6 +2,8 @@
 // Table 5.1's stage times for every closed model of the data set, at the dissertation's hex
 // counts where it has a row (10k hexes otherwise), beside its numbers.
 //   bench_hex DATA_DIR [MODEL...]
+//   bench_hex --unseen [SHAPES_DIR]   the shapes of unseen_shapes.hpp at 10k hexes (written as
+//                                     OBJ into SHAPES_DIR when given)
 // With BENCH_HEX_UNTANGLE_MAP=1 in the environment, with `--smooth-surface-map --untangle-map`
 // (HexOptions::smooth_surface_map, the joint untangling over 3, 6 and 12 rings).
 #include "../surface_models.hpp"
@@ -10,6 +12,7 @@
 #include "structmesh/hex.hpp"
 #include "structmesh/io.hpp"
 #include "structmesh/tetmesh.hpp"
+#include "unseen_shapes.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -51,13 +54,8 @@ double stage(const HexResult& r, const std::string& name) {
   return total;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  const std::vector<std::filesystem::path> models = bench::surface_models(argc, argv);
-  const char* untangle_env = std::getenv("BENCH_HEX_UNTANGLE_MAP");
-  const bool untangle_map = untangle_env != nullptr && std::string(untangle_env) == "1";
-
+// The table's header.
+void print_header() {
   std::printf(
       "| model | vertices | target | hexes | scaled Jacobian min / avg | 8-corner min | inverted | dihedral avg / std "
       "| D_v | map's flipped tets: solved → untangled → star cavities → joint untangling | Q folded on P; branch "
@@ -69,6 +67,97 @@ int main(int argc, char** argv) {
       "s | dissertation "
       "(Table 5.2; 5.1 total) |\n");
   std::printf("|---|---:|---:|---:|---|---:|---:|---|---:|---|---|---|---:|---:|---:|---:|---:|---:|---:|---|\n");
+}
+
+// One row: `surface` meshed at `target` hexes with default settings (plus the opt-in map
+// steps with `untangle_map`); `label` names it, `anchor` is the dissertation's row or "-".
+void print_row(const std::string& label, const TriMesh& surface, std::size_t target, const char* anchor,
+               bool untangle_map) {
+  HexOptions options;
+  options.target_hexes = target;
+  if (untangle_map) {
+    options.smooth_surface_map = true;
+    options.map_untangling.rings = {3, 6, 12};
+    options.untangle_map_onto_q = true;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const HexResult r = polycube_hex_mesh(surface, options);
+  const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const HexQuality& q = r.quality;
+  char buffer[64];
+  if (r.map.flipped == 0)
+    std::snprintf(buffer, sizeof buffer, "%.3f", r.map.volume_distortion);
+  else
+    std::snprintf(buffer, sizeof buffer, "- (%zu flipped)", r.map.flipped);
+  const std::string volume_distortion = buffer;
+  const auto& planes = r.polycube.plane_merge.planes_after;
+  std::snprintf(buffer, sizeof buffer, "%zu; %zu/%zu/%zu%s", r.polycube.optimization.after.corners, planes[0],
+                planes[1], planes[2],
+                r.merged_map_folded ? " (unmerged: merged map folded)"
+                : r.unmerged_kept   ? " (unmerged: retry)"
+                : r.merging_retried ? " (merged, retry worse)"
+                                    : "");
+  const std::string corners = buffer;
+  std::snprintf(buffer, sizeof buffer, "%zu → %zu → %zu → %zu", r.map.flipped_before_untangling,
+                r.flipped_repair.flipped_before, r.flipped_repair.flipped_after, r.map.flipped);
+  const std::string flipped = buffer;
+  // smooth_surface_map()'s energy (1 at best) and the worst area ratio, before -> after.
+  if (r.surface_map_smoothing.sweeps > 0)
+    std::snprintf(buffer, sizeof buffer, "%.3g → %.3g; %.3g → %.3g%s", r.surface_map_smoothing.energy_before,
+                  r.surface_map_smoothing.energy_after, r.surface_map_smoothing.worst_area_ratio_before,
+                  r.surface_map_smoothing.worst_area_ratio_after,
+                  r.surface_map_smoothed_after_flips ? " (after flips)" : "");
+  else
+    std::snprintf(buffer, sizeof buffer, "%s", r.surface_map_smoothed_after_flips ? "- (after flips: not kept)" : "-");
+  const std::string distortion = buffer;
+  std::printf(
+      "| %s | %zu | %zu | %zu | %.3f / %.3f | %.3f | %zu | %.2f / %.2f | %s | %s | %zu → %zu; %zu → %zu | %s | "
+      "%.3f | "
+      "%zu | %s | %.1f | "
+      "%.1f | "
+      "%.1f | %.1f | %s |\n",
+      label.c_str(), surface.points.size(), target, r.mesh.hexes.size(), q.scaled_jacobian_stats.min,
+      q.scaled_jacobian_stats.mean, q.corner_scaled_jacobian_stats.min, q.inverted + q.invalid, q.dihedral_degrees.mean,
+      q.dihedral_degrees.stddev, volume_distortion.c_str(), flipped.c_str(), r.surface_map.folded_before,
+      r.surface_map.folded_after, r.surface_map.branched_before, r.surface_map.branched_after, distortion.c_str(),
+      1e3 * r.geometric_deviation, q.singular_vertices, corners.c_str(), stage(r, "polycube (total)"),
+      stage(r, "tet mesh") + stage(r, "surface map") + stage(r, "surface map smoothing") + stage(r, "volumetric map"),
+      stage(r, "hex grid") + stage(r, "inverse map") + stage(r, "padding") + stage(r, "smoothing"), total, anchor);
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  const char* untangle_env = std::getenv("BENCH_HEX_UNTANGLE_MAP");
+  const bool untangle_map = untangle_env != nullptr && std::string(untangle_env) == "1";
+  if (argc > 1 && std::string(argv[1]) == "--unseen") {
+    const std::filesystem::path shapes_dir = argc > 2 ? argv[2] : "";
+    if (!shapes_dir.empty()) std::filesystem::create_directories(shapes_dir);
+    std::printf(
+        "| shape | what | vertices | target | hexes | scaled Jacobian min / avg | 8-corner min | inverted | "
+        "dihedral avg / std | D_v | map's flipped tets: solved → untangled → star cavities → joint untangling "
+        "| Q folded on P; branch points | surface map distortion | D_g (1e-3) | N_h | corners; facet planes "
+        "x/y/z | polycube s | tets + map s | grid + smoothing s | total s | dissertation |\n");
+    std::printf("|---|---|---:|---:|---:|---|---:|---:|---|---:|---|---|---|---:|---:|---:|---:|---:|---:|---:|---|\n");
+    for (const bench::NamedShape& shape : bench::unseen_shapes()) {
+      if (!shapes_dir.empty()) write_mesh(shapes_dir / (shape.name + ".obj"), to_bundle(shape.surface));
+      const SurfaceReport report = check_surface(to_bundle(shape.surface));
+      if (!report.valid_solid_boundary) {
+        std::printf("| %s | %s | %zu | not a solid boundary:%s ||||||||||||||||| - |\n", shape.name.c_str(),
+                    shape.what.c_str(), shape.surface.points.size(), solid_boundary_problems(report).c_str());
+        continue;
+      }
+      try {
+        print_row(shape.name + " | " + shape.what, shape.surface, 10000, "-", untangle_map);
+      } catch (const std::exception& e) {
+        std::printf("| %s | %s | failed: %s ||||||||||||||||||| - |\n", shape.name.c_str(), shape.what.c_str(),
+                    e.what());
+      }
+      std::fflush(stdout);
+    }
+    return 0;
+  }
+  const std::vector<std::filesystem::path> models = bench::surface_models(argc, argv);
+  print_header();
   for (const auto& path : models) {
     const std::string name = path.filename().string();
     const auto row = dissertation().find(name);
@@ -92,59 +181,7 @@ int main(int argc, char** argv) {
         }
         label += " (--repair: " + what + ")";
       }
-      HexOptions options;
-      options.target_hexes = target;
-      if (untangle_map) {
-        options.smooth_surface_map = true;
-        options.map_untangling.rings = {3, 6, 12};
-        options.untangle_map_onto_q = true;
-      }
-      const auto start = std::chrono::steady_clock::now();
-      const HexResult r = polycube_hex_mesh(surface, options);
-      const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      const HexQuality& q = r.quality;
-      char buffer[64];
-      if (r.map.flipped == 0)
-        std::snprintf(buffer, sizeof buffer, "%.3f", r.map.volume_distortion);
-      else
-        std::snprintf(buffer, sizeof buffer, "- (%zu flipped)", r.map.flipped);
-      const std::string volume_distortion = buffer;
-      const auto& planes = r.polycube.plane_merge.planes_after;
-      std::snprintf(buffer, sizeof buffer, "%zu; %zu/%zu/%zu%s", r.polycube.optimization.after.corners, planes[0],
-                    planes[1], planes[2],
-                    r.merged_map_folded ? " (unmerged: merged map folded)"
-                    : r.unmerged_kept   ? " (unmerged: retry)"
-                    : r.merging_retried ? " (merged, retry worse)"
-                                        : "");
-      const std::string corners = buffer;
-      std::snprintf(buffer, sizeof buffer, "%zu → %zu → %zu → %zu", r.map.flipped_before_untangling,
-                    r.flipped_repair.flipped_before, r.flipped_repair.flipped_after, r.map.flipped);
-      const std::string flipped = buffer;
-      // smooth_surface_map()'s energy (1 at best) and the worst area ratio, before -> after.
-      if (r.surface_map_smoothing.sweeps > 0)
-        std::snprintf(buffer, sizeof buffer, "%.3g → %.3g; %.3g → %.3g%s", r.surface_map_smoothing.energy_before,
-                      r.surface_map_smoothing.energy_after, r.surface_map_smoothing.worst_area_ratio_before,
-                      r.surface_map_smoothing.worst_area_ratio_after,
-                      r.surface_map_smoothed_after_flips ? " (after flips)" : "");
-      else
-        std::snprintf(buffer, sizeof buffer, "%s",
-                      r.surface_map_smoothed_after_flips ? "- (after flips: not kept)" : "-");
-      const std::string distortion = buffer;
-      std::printf(
-          "| %s | %zu | %zu | %zu | %.3f / %.3f | %.3f | %zu | %.2f / %.2f | %s | %s | %zu → %zu; %zu → %zu | %s | "
-          "%.3f | "
-          "%zu | %s | %.1f | "
-          "%.1f | "
-          "%.1f | %.1f | %s |\n",
-          label.c_str(), surface.points.size(), target, r.mesh.hexes.size(), q.scaled_jacobian_stats.min,
-          q.scaled_jacobian_stats.mean, q.corner_scaled_jacobian_stats.min, q.inverted + q.invalid,
-          q.dihedral_degrees.mean, q.dihedral_degrees.stddev, volume_distortion.c_str(), flipped.c_str(),
-          r.surface_map.folded_before, r.surface_map.folded_after, r.surface_map.branched_before,
-          r.surface_map.branched_after, distortion.c_str(), 1e3 * r.geometric_deviation, q.singular_vertices,
-          corners.c_str(), stage(r, "polycube (total)"),
-          stage(r, "tet mesh") + stage(r, "surface map") + stage(r, "surface map smoothing") +
-              stage(r, "volumetric map"),
-          stage(r, "hex grid") + stage(r, "inverse map") + stage(r, "padding") + stage(r, "smoothing"), total, anchor);
+      print_row(label, surface, target, anchor, untangle_map);
     } catch (const std::exception& e) {
       std::string message = e.what();
       if (message.size() > 160) message = message.substr(0, 160) + "...";
