@@ -2,8 +2,8 @@
 // Table 5.1's stage times for every closed model of the data set, at the dissertation's hex
 // counts where it has a row (10k hexes otherwise), beside its numbers.
 //   bench_hex DATA_DIR [MODEL...]
-//   bench_hex --unseen [SHAPES_DIR]   the shapes of unseen_shapes.hpp at 10k hexes (written as
-//                                     OBJ into SHAPES_DIR when given)
+//   bench_hex --unseen [SHAPES_DIR [SHAPE...]]   the shapes of unseen_shapes.hpp (all, or the
+//       ones named) at 10k hexes; each written as OBJ into SHAPES_DIR unless that is empty
 // With BENCH_HEX_UNTANGLE_MAP=1 in the environment, with `--smooth-surface-map --untangle-map`
 // (HexOptions::smooth_surface_map, the joint untangling over 3, 6 and 12 rings).
 #include "../surface_models.hpp"
@@ -138,7 +138,9 @@ int main(int argc, char** argv) {
         "| Q folded on P; branch points | surface map distortion | D_g (1e-3) | N_h | corners; facet planes "
         "x/y/z | polycube s | tets + map s | grid + smoothing s | total s | dissertation |\n");
     std::printf("|---|---|---:|---:|---:|---|---:|---:|---|---:|---|---|---|---:|---:|---:|---:|---:|---:|---:|---|\n");
+    const std::vector<std::string> only(argv + std::min(argc, 3), argv + argc);
     for (const bench::NamedShape& shape : bench::unseen_shapes()) {
+      if (!only.empty() && std::find(only.begin(), only.end(), shape.name) == only.end()) continue;
       if (!shapes_dir.empty()) write_mesh(shapes_dir / (shape.name + ".obj"), to_bundle(shape.surface));
       const SurfaceReport report = check_surface(to_bundle(shape.surface));
       if (!report.valid_solid_boundary) {

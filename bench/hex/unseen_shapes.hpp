@@ -9,6 +9,7 @@
 #include "../../tests/guard/shapes.hpp"
 #include "../../tests/polycube/shapes.hpp"
 #include "structmesh/mesh.hpp"
+#include "structmesh/tetmesh.hpp"
 
 #include <Eigen/Geometry>
 
@@ -74,6 +75,59 @@ inline void taubin_smooth(TriMesh& mesh, int iterations) {
   }
 }
 
+/// The surface swept by turning `profile` (points (r, z), r >= 0) about the z axis in
+/// `around` steps. An open profile must start and end on the axis (r = 0: poles); a closed
+/// one (`closed`) stays off it and sweeps a solid torus. Profile corners stay sharp edges.
+inline TriMesh revolve(const std::vector<std::pair<double, double>>& profile, int around, bool closed) {
+  TriMesh mesh;
+  std::vector<std::vector<Index>> rings;
+  for (const auto& [r, z] : profile) {
+    std::vector<Index> ring;
+    const int copies = r == 0 ? 1 : around;
+    for (int j = 0; j < copies; ++j) {
+      const double a = 2 * std::numbers::pi * j / around;
+      ring.push_back(static_cast<Index>(mesh.points.size()));
+      mesh.points.emplace_back(r * std::cos(a), r * std::sin(a), z);
+    }
+    rings.push_back(std::move(ring));
+  }
+  const std::size_t bands = closed ? rings.size() : rings.size() - 1;
+  for (std::size_t i = 0; i < bands; ++i) {
+    const auto& a = rings[i];
+    const auto& b = rings[(i + 1) % rings.size()];
+    for (int j = 0; j < around; ++j) {
+      const int k = (j + 1) % around;
+      if (a.size() == 1) {
+        mesh.triangles.push_back({a[0], b[j], b[k]});
+      } else if (b.size() == 1) {
+        mesh.triangles.push_back({a[j], b[0], a[k]});
+      } else {
+        mesh.triangles.push_back({a[j], b[j], b[k]});
+        mesh.triangles.push_back({a[j], b[k], a[k]});
+      }
+    }
+  }
+  // Outward whichever way the profile runs.
+  if (enclosed_volume(mesh) < 0)
+    for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
+  return mesh;
+}
+
+/// The polyline through `corners`, each straight piece cut into pieces of about `step`.
+inline std::vector<std::pair<double, double>> polyline(const std::vector<std::pair<double, double>>& corners,
+                                                       double step, bool closed) {
+  std::vector<std::pair<double, double>> points;
+  const std::size_t pieces = closed ? corners.size() : corners.size() - 1;
+  for (std::size_t i = 0; i < pieces; ++i) {
+    const auto [r0, z0] = corners[i];
+    const auto [r1, z1] = corners[(i + 1) % corners.size()];
+    const int n = std::max(1, static_cast<int>(std::round(std::hypot(r1 - r0, z1 - z0) / step)));
+    for (int k = 0; k < n; ++k) points.emplace_back(r0 + (r1 - r0) * k / n, z0 + (z1 - z0) * k / n);
+  }
+  if (!closed) points.push_back(corners.back());
+  return points;
+}
+
 }  // namespace unseen_detail
 
 /// The unseen shapes, 1k-10k vertices each, in a fixed order.
@@ -84,28 +138,24 @@ inline std::vector<NamedShape> unseen_shapes() {
     shapes.push_back({std::move(name), std::move(what), std::move(surface)});
   };
   // Star-shaped radius functions over the icosphere (10,242 vertices).
-  add("blob", "lumpy sphere, 1 + 0.3 sin sin sin, turned",
-      rotated(test::icosphere(5, [](const Vec3& d) {
+  add("blob", "lumpy sphere, 1 + 0.3 sin sin sin, turned", rotated(test::icosphere(5, [](const Vec3& d) {
         return 1.0 + 0.3 * std::sin(4 * d.x() + 1.1) * std::sin(3 * d.y() + 0.2) * std::sin(4 * d.z() + 0.9);
       })));
-  add("jack", "six rounded arms along the axes",
-      test::icosphere(5, [](const Vec3& d) {
+  add("jack", "six rounded arms along the axes", test::icosphere(5, [](const Vec3& d) {
         const double m = std::max({std::abs(d.x()), std::abs(d.y()), std::abs(d.z())});
         return 0.45 + 0.8 * std::pow(m, 12);
       }));
-  add("tetra_lobes", "four lobes towards a tetrahedron's corners (off the axes)",
-      test::icosphere(5, [](const Vec3& d) {
+  add("tetra_lobes", "four lobes towards a tetrahedron's corners (off the axes)", test::icosphere(5, [](const Vec3& d) {
         double lobe = 0;
         for (const Vec3& t : {Vec3(1, 1, 1), Vec3(1, -1, -1), Vec3(-1, 1, -1), Vec3(-1, -1, 1)})
           lobe = std::max(lobe, std::max(0.0, d.dot(t.normalized())));
         return 0.55 + 0.7 * std::pow(lobe, 6);
       }));
-  add("urchin", "twelve spikes towards an icosahedron's corners",
-      test::icosphere(5, [](const Vec3& d) {
+  add("urchin", "twelve spikes towards an icosahedron's corners", test::icosphere(5, [](const Vec3& d) {
         const double t = (1.0 + std::sqrt(5.0)) / 2.0;
         double spike = 0;
-        for (const Vec3& c : {Vec3(0, 1, t), Vec3(0, -1, t), Vec3(1, t, 0), Vec3(-1, t, 0), Vec3(t, 0, 1),
-                              Vec3(-t, 0, 1)})
+        for (const Vec3& c :
+             {Vec3(0, 1, t), Vec3(0, -1, t), Vec3(1, t, 0), Vec3(-1, t, 0), Vec3(t, 0, 1), Vec3(-t, 0, 1)})
           spike = std::max(spike, std::abs(d.dot(c.normalized())));
         return 0.7 + 0.6 * std::pow(spike, 24);
       }));
@@ -115,8 +165,7 @@ inline std::vector<NamedShape> unseen_shapes() {
       rotated(test::icosphere(5, [](const Vec3& d) { return superellipsoid_radius(d, Vec3(1.6, 0.9, 0.5), 6); })));
   {
     // A bar twisted by a quarter turn about its length.
-    TriMesh bar =
-        test::icosphere(5, [](const Vec3& d) { return superellipsoid_radius(d, Vec3(2.0, 0.5, 0.5), 6); });
+    TriMesh bar = test::icosphere(5, [](const Vec3& d) { return superellipsoid_radius(d, Vec3(2.0, 0.5, 0.5), 6); });
     for (Vec3& p : bar.points) {
       const double angle = 0.25 * std::numbers::pi * p.x() / 2.0;
       const double y = p.y(), z = p.z();
@@ -144,8 +193,8 @@ inline std::vector<NamedShape> unseen_shapes() {
       for (int j = 0; j < kAcross; ++j) {
         const double a = 2 * std::numbers::pi * i / kAround, b = 2 * std::numbers::pi * j / kAcross;
         const double tube = 0.45 + 0.2 * std::cos(a);
-        torus.points[static_cast<std::size_t>(i * kAcross + j)] =
-            Vec3((1.6 + tube * std::cos(b)) * std::cos(a), (1.6 + tube * std::cos(b)) * std::sin(a), tube * std::sin(b));
+        torus.points[static_cast<std::size_t>(i * kAcross + j)] = Vec3(
+            (1.6 + tube * std::cos(b)) * std::cos(a), (1.6 + tube * std::cos(b)) * std::sin(a), tube * std::sin(b));
       }
     add("swollen_torus", "torus, tube radius 0.25-0.65 around it, turned", rotated(std::move(torus)));
   }
@@ -194,6 +243,24 @@ inline std::vector<NamedShape> unseen_shapes() {
     TriMesh bracket = test::voxel_surface(cells, 4);
     taubin_smooth(bracket, 15);
     add("bracket", "L bracket 5 x 3 x 5 one voxel thick, hole in its foot (genus 1)", std::move(bracket));
+  }
+  // Machined parts: surfaces of revolution with sharp rims (CAD-like; default settings, no
+  // --features), 96 steps around.
+  constexpr double kStep = 2 * std::numbers::pi / 96;
+  add("cylinder", "cylinder, radius 1, height 2, sharp rims",
+      revolve(polyline({{0, 0}, {1, 0}, {1, 2}, {0, 2}}, kStep, false), 96, false));
+  add("washer", "washer, radii 0.6 and 1.2, 0.5 thick, sharp rims (genus 1)",
+      revolve(polyline({{0.6, 0}, {1.2, 0}, {1.2, 0.5}, {0.6, 0.5}}, kStep, true), 96, true));
+  add("bolt", "bolt: head radius 1, 0.4 high, on a shaft of radius 0.4, 1.5 long; sharp, one rim concave",
+      revolve(polyline({{0, 0}, {0.4, 0}, {0.4, 1.5}, {1, 1.5}, {1, 1.9}, {0, 1.9}}, kStep, false), 96, false));
+  {
+    std::vector<std::pair<double, double>> profile = polyline({{0, 0}, {1, 0}}, kStep, false);
+    profile.pop_back();
+    for (int k = 0; k <= 24; ++k) {
+      const double a = 0.5 * std::numbers::pi * k / 24;
+      profile.emplace_back(k == 24 ? 0.0 : std::cos(a), std::sin(a));
+    }
+    add("dome", "half ball, radius 1, sharp rim", revolve(profile, 96, false));
   }
   return shapes;
 }
