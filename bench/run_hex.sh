@@ -5,9 +5,9 @@
 # surface map's distortion smoothed before the first volumetric map, the joint untangling over
 # 3, 6 and 12 rings and on the unmerged polycube's map too), into
 # bench/results/hex_untangle_map.md.
-# With --unseen: the shapes of bench/hex/unseen_shapes.hpp, made from formulas and never used
-# to tune the pipeline, at 10k hexes with default settings, into bench/results/hex_unseen.md
-# (their surfaces are written to out/unseen_shapes/ as OBJ).
+# With --unseen: the built-in solids (solids.hpp, `structmesh generate SOLID`), made from
+# formulas and never used to tune the pipeline, at 10k hexes with default settings, into
+# bench/results/hex_unseen.md (their surfaces are written to out/unseen_shapes/ as OBJ).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 # OpenBLAS pinned to its AVX2 kernels where the CPU has them (why: in the script).

@@ -31,6 +31,12 @@ mpirun --oversubscribe -np 2 "$sm" quad2d "$out/key.geojson" --parts 32 --thread
   --merged "$out/key-quads-mpi.vtu" --json "$out/key-quads-mpi.json"
 cmp "$out/key-quads.vtu" "$out/key-quads-mpi.vtu" && echo "MPI and threaded meshes are byte-identical"
 
+echo "== 3D on a built-in solid (no data set needed): a tube around a trefoil knot, all-hex by polycube mapping"
+"$sm" generate trefoil -o "$out/trefoil.obj" --json "$out/trefoil-generate.json"
+"$sm" check "$out/trefoil.obj" --json "$out/trefoil-check.json"
+"$sm" hex "$out/trefoil.obj" --hexes 10000 -o "$out/trefoil-hex.vtu" -o "$out/trefoil-hex.png" \
+  --polycube "$out/trefoil-polycube.obj" --json "$out/trefoil-hex.json"
+
 data=${STRUCTMESH_DATA:-$root/../shared/data}
 if [[ -d "$data" ]]; then
   echo "== the Gulf of Mexico (lon/lat, 1,624 islands) into 128 parts"

@@ -1,10 +1,12 @@
-// structmesh generate key|pipe: the built-in procedural regions of §3.4.
+// structmesh generate key|pipe|SOLID: the built-in procedural regions of §3.4 and the built-in
+// solids of solids.hpp (closed surfaces for the 3D pipelines).
 #include "cli.hpp"
 #include "structmesh/check.hpp"
 #include "structmesh/error.hpp"
 #include "structmesh/io.hpp"
 #include "structmesh/regions.hpp"
 #include "structmesh/render.hpp"
+#include "structmesh/solids.hpp"
 
 #include <memory>
 
@@ -17,16 +19,40 @@ Action add_generate_command(CLI::App& command, const GlobalOptions& global) {
     std::vector<std::string> outputs;
   };
   auto settings = std::make_shared<Settings>();
-  command.add_option("SHAPE", settings->shape, "key (1 hole) or pipe (9 holes)")
+  std::vector<std::string> shapes{"key", "pipe"};
+  std::string solids;
+  for (const BuiltinSolid& solid : builtin_solids()) {
+    shapes.emplace_back(solid.name);
+    solids += "\n  " + std::string(solid.name) + ": " + std::string(solid.description);
+  }
+  command
+      .add_option("SHAPE", settings->shape,
+                  "Regions: key (1 hole) or pipe (9 holes). Solids (closed surfaces, written as .obj .off .ply "
+                  ".stl .mesh .vtu):" +
+                      solids)
       ->required()
-      ->check(CLI::IsMember({"key", "pipe"}));
+      ->check(CLI::IsMember(shapes));
   command
       .add_option("--segments", settings->segments,
                   "Boundary segments over all rings (default 2000 for the key, 4000 for the pipe)")
       ->check(CLI::Range(std::size_t{16}, std::size_t{200'000'000}));
-  command.add_option("-o,--output", settings->outputs, "Output files: .geojson .poly .svg .png (repeatable)")
+  command
+      .add_option("-o,--output", settings->outputs,
+                  "Output files: .geojson .poly .svg .png for a region, a surface mesh format for a solid (repeatable)")
       ->required();
   return [&global, settings]() {
+    if (settings->shape != "key" && settings->shape != "pipe") {
+      const TriMesh surface = make_builtin_solid(settings->shape);
+      for (const std::string& output : settings->outputs) {
+        write_mesh(output, to_bundle(surface));
+        say(global, "wrote " + output);
+      }
+      write_json_report(global, {{"shape", settings->shape},
+                                 {"vertices", surface.points.size()},
+                                 {"triangles", surface.triangles.size()},
+                                 {"outputs", settings->outputs}});
+      return 0;
+    }
     const bool key = settings->shape == "key";
     const std::size_t segments = settings->segments > 0 ? settings->segments : (key ? 2000 : 4000);
     const std::vector<Polygon2> region{key ? make_key_region(segments) : make_pipe_region(segments)};

@@ -49,7 +49,10 @@ int main(int argc, char** argv) {
   };
   add("check", "Validate a surface, volume mesh or region file (exit 0 valid, 2 invalid)", cli::add_check_command);
   add("quality", "Scaled Jacobian, dihedral angles, singular vertices, D_g, D_v of a mesh", cli::add_quality_command);
-  add("generate", "Write a built-in region: the Key (1 hole) or the Pipe (9 holes) of §3.4", cli::add_generate_command);
+  add("generate",
+      "Write a built-in input: the Key (1 hole) or the Pipe (9 holes) of §3.4, or a closed solid (trefoil, cylinder, "
+      "...)",
+      cli::add_generate_command);
   add("convert", "Convert a mesh or region between formats (format from the extension)", cli::add_convert_command);
   add("partition2d", "Split a planar region into k balanced, compact parts with near-90° corners (§3.2)",
       cli::add_partition2d_command);

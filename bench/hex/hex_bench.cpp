@@ -2,7 +2,7 @@
 // Table 5.1's stage times for every closed model of the data set, at the dissertation's hex
 // counts where it has a row (10k hexes otherwise), beside its numbers.
 //   bench_hex DATA_DIR [MODEL...]
-//   bench_hex --unseen [SHAPES_DIR [SHAPE...]]   the shapes of unseen_shapes.hpp (all, or the
+//   bench_hex --unseen [SHAPES_DIR [SHAPE...]]   the built-in solids of solids.hpp (all, or the
 //       ones named) at 10k hexes; each written as OBJ into SHAPES_DIR unless that is empty
 // With BENCH_HEX_UNTANGLE_MAP=1 in the environment, with `--smooth-surface-map --untangle-map`
 // (HexOptions::smooth_surface_map, the joint untangling over 3, 6 and 12 rings).
@@ -11,8 +11,8 @@
 #include "structmesh/error.hpp"
 #include "structmesh/hex.hpp"
 #include "structmesh/io.hpp"
+#include "structmesh/solids.hpp"
 #include "structmesh/tetmesh.hpp"
-#include "unseen_shapes.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -139,20 +139,21 @@ int main(int argc, char** argv) {
         "x/y/z | polycube s | tets + map s | grid + smoothing s | total s | dissertation |\n");
     std::printf("|---|---|---:|---:|---:|---|---:|---:|---|---:|---|---|---|---:|---:|---:|---:|---:|---:|---:|---|\n");
     const std::vector<std::string> only(argv + std::min(argc, 3), argv + argc);
-    for (const bench::NamedShape& shape : bench::unseen_shapes()) {
-      if (!only.empty() && std::find(only.begin(), only.end(), shape.name) == only.end()) continue;
-      if (!shapes_dir.empty()) write_mesh(shapes_dir / (shape.name + ".obj"), to_bundle(shape.surface));
-      const SurfaceReport report = check_surface(to_bundle(shape.surface));
+    for (const BuiltinSolid& solid : builtin_solids()) {
+      const std::string name(solid.name), what(solid.description);
+      if (!only.empty() && std::find(only.begin(), only.end(), name) == only.end()) continue;
+      const TriMesh surface = make_builtin_solid(solid.name);
+      if (!shapes_dir.empty()) write_mesh(shapes_dir / (name + ".obj"), to_bundle(surface));
+      const SurfaceReport report = check_surface(to_bundle(surface));
       if (!report.valid_solid_boundary) {
-        std::printf("| %s | %s | %zu | not a solid boundary:%s ||||||||||||||||| - |\n", shape.name.c_str(),
-                    shape.what.c_str(), shape.surface.points.size(), solid_boundary_problems(report).c_str());
+        std::printf("| %s | %s | %zu | not a solid boundary:%s ||||||||||||||||| - |\n", name.c_str(), what.c_str(),
+                    surface.points.size(), solid_boundary_problems(report).c_str());
         continue;
       }
       try {
-        print_row(shape.name + " | " + shape.what, shape.surface, 10000, "-", untangle_map);
+        print_row(name + " | " + what, surface, 10000, "-", untangle_map);
       } catch (const std::exception& e) {
-        std::printf("| %s | %s | failed: %s ||||||||||||||||||| - |\n", shape.name.c_str(), shape.what.c_str(),
-                    e.what());
+        std::printf("| %s | %s | failed: %s ||||||||||||||||||| - |\n", name.c_str(), what.c_str(), e.what());
       }
       std::fflush(stdout);
     }

@@ -70,6 +70,11 @@ expect 0 "" -- "$sm" check "$work/key.poly"
 expect 0 "wrote" -- "$sm" generate pipe --segments 900 -o "$work/pipe.geojson" --json "$work/pipe.json"
 [[ $(json_field "$work/pipe.json" "['holes']") == 9 ]] && passed=$((passed + 1)) || { echo "FAIL: pipe holes"; failed=$((failed + 1)); }
 grep -q "<svg" "$work/key.svg" && passed=$((passed + 1)) || { echo "FAIL: key.svg"; failed=$((failed + 1)); }
+# a built-in solid is written in a surface format and checks as a solid boundary of its genus;
+# a picture format is refused for it
+expect 0 "wrote" -- "$sm" generate washer -o "$work/washer.off" --json "$work/washer.json"
+expect 0 "genus +1" -- "$sm" check "$work/washer.off"
+expect 2 "PNG" -- "$sm" generate washer -o "$work/washer.png"
 
 # quality: unit cube hex mesh via MEDIT -> perfect, and its JSON
 cat >"$work/cube.mesh" <<'MESH'

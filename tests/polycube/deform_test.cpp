@@ -6,6 +6,7 @@
 #include "structmesh/error.hpp"
 #include "structmesh/io.hpp"
 #include "structmesh/polycube.hpp"
+#include "structmesh/solids.hpp"
 #include "test_data.hpp"
 
 #include <gtest/gtest.h>
@@ -38,22 +39,7 @@ TriMesh transformed(TriMesh mesh, const Eigen::Matrix3d& rotation, const Vec3& s
 }
 
 // A ring torus about the z axis (radii R and r), `around` x `across` quads, outward.
-TriMesh torus(int around, int across, double R, double r) {
-  TriMesh mesh;
-  for (int i = 0; i < around; ++i)
-    for (int j = 0; j < across; ++j) {
-      const double u = 2 * std::numbers::pi * i / around, v = 2 * std::numbers::pi * j / across;
-      mesh.points.emplace_back((R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u),
-                               r * std::sin(v));
-    }
-  const auto id = [&](int i, int j) { return Index((i % around) * across + j % across); };
-  for (int i = 0; i < around; ++i)
-    for (int j = 0; j < across; ++j) {
-      mesh.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-      mesh.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-    }
-  return mesh;
-}
+TriMesh torus(int around, int across, double R, double r) { return torus_surface(R, r, around, across); }
 
 Vec3 unit_normal(const TriMesh& mesh, const std::array<Index, 3>& t) {
   return (mesh.points[t[1]] - mesh.points[t[0]]).cross(mesh.points[t[2]] - mesh.points[t[0]]).normalized();

@@ -1,6 +1,7 @@
 // Hausdorff distance (D_g of §5.3) on cases with exact answers.
 #include "structmesh/error.hpp"
 #include "structmesh/quality.hpp"
+#include "structmesh/solids.hpp"
 
 #include <gtest/gtest.h>
 
@@ -12,30 +13,7 @@ namespace {
 
 // Icosahedron subdivided `levels` times, vertices on the unit sphere.
 TriMesh icosphere(int levels) {
-  const double t = (1 + std::sqrt(5.0)) / 2;
-  TriMesh mesh;
-  for (const Vec3& p :
-       {Vec3(-1, t, 0), Vec3(1, t, 0), Vec3(-1, -t, 0), Vec3(1, -t, 0), Vec3(0, -1, t), Vec3(0, 1, t), Vec3(0, -1, -t),
-        Vec3(0, 1, -t), Vec3(t, 0, -1), Vec3(t, 0, 1), Vec3(-t, 0, -1), Vec3(-t, 0, 1)})
-    mesh.points.push_back(p.normalized());
-  mesh.triangles = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-                    {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-                    {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
-  for (int level = 0; level < levels; ++level) {
-    std::map<std::pair<Index, Index>, Index> midpoints;
-    const auto midpoint = [&](Index a, Index b) {
-      const auto [it, inserted] = midpoints.emplace(std::minmax(a, b), static_cast<Index>(mesh.points.size()));
-      if (inserted) mesh.points.push_back((mesh.points[a] + mesh.points[b]).normalized());
-      return it->second;
-    };
-    std::vector<std::array<Index, 3>> finer;
-    for (const auto& [a, b, c] : mesh.triangles) {
-      const Index ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
-      finer.insert(finer.end(), {{a, ab, ca}, {b, bc, ab}, {c, ca, bc}, {ab, bc, ca}});
-    }
-    mesh.triangles = finer;
-  }
-  return mesh;
+  return structmesh::icosphere(levels, [](const Vec3&) { return 1.0; });
 }
 
 TriMesh rectangle(double x0, double x1, double y0, double y1) {

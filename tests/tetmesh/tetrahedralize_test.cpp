@@ -3,6 +3,7 @@
 // volume — and the error paths of bad input.
 #include "structmesh/error.hpp"
 #include "structmesh/io.hpp"
+#include "structmesh/solids.hpp"
 #include "structmesh/tetmesh.hpp"
 #include "test_data.hpp"
 
@@ -32,23 +33,7 @@ TriMesh unit_cube(const Vec3& offset = Vec3::Zero()) {
 }
 
 // Torus of radii R and r from an nu x nv parametric grid, outward.
-TriMesh torus(int nu, int nv, double R = 2.0, double r = 0.7) {
-  TriMesh mesh;
-  for (int i = 0; i < nu; ++i)
-    for (int j = 0; j < nv; ++j) {
-      const double u = 2 * std::numbers::pi * i / nu, v = 2 * std::numbers::pi * j / nv;
-      mesh.points.emplace_back((R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u),
-                               r * std::sin(v));
-    }
-  const auto id = [&](int i, int j) { return Index(((i + nu) % nu) * nv + (j + nv) % nv); };
-  for (int i = 0; i < nu; ++i)
-    for (int j = 0; j < nv; ++j) {
-      // d/du x d/dv points away from the tube's core.
-      mesh.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-      mesh.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-    }
-  return mesh;
-}
+TriMesh torus(int nu, int nv, double R = 2.0, double r = 0.7) { return torus_surface(R, r, nu, nv); }
 
 // Enclosed volume straight from the triangles, about the origin (independent of the library's).
 double volume_from_origin(const TriMesh& s) {
