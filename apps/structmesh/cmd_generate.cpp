@@ -42,6 +42,8 @@ Action add_generate_command(CLI::App& command, const GlobalOptions& global) {
       ->required();
   return [&global, settings]() {
     if (settings->shape != "key" && settings->shape != "pipe") {
+      if (settings->segments > 0)
+        throw InputError("--segments applies to the key and the pipe; the built-in solids have a fixed resolution");
       const TriMesh surface = make_builtin_solid(settings->shape);
       for (const std::string& output : settings->outputs) {
         write_mesh(output, to_bundle(surface));

@@ -75,6 +75,7 @@ grep -q "<svg" "$work/key.svg" && passed=$((passed + 1)) || { echo "FAIL: key.sv
 expect 0 "wrote" -- "$sm" generate washer -o "$work/washer.off" --json "$work/washer.json"
 expect 0 "genus +1" -- "$sm" check "$work/washer.off"
 expect 2 "PNG" -- "$sm" generate washer -o "$work/washer.png"
+expect 2 "segments" -- "$sm" generate washer --segments 100 -o "$work/washer2.off"
 
 # quality: unit cube hex mesh via MEDIT -> perfect, and its JSON
 cat >"$work/cube.mesh" <<'MESH'
