@@ -377,11 +377,17 @@ const std::vector<Entry>& entries() {
       {{"pretzel", "smoothed 5 x 3 x 2 voxel block with two holes, turned off the axes", 2}, pretzel},
       {{"bracket", "L bracket 5 x 3 x 5, one voxel thick, a hole in its foot, edges rounded", 1}, bracket},
       {{"cylinder", "cylinder, radius 1, height 2, sharp rims", 0},
-       [] { return revolved({{0, 0}, {1, 0}, {1, 2}, {0, 2}}, false); }},
+       [] {
+         return revolved({{0, 0}, {1, 0}, {1, 2}, {0, 2}}, false);
+       }},
       {{"washer", "washer, radii 0.6 and 1.2, 0.5 thick, sharp rims", 1},
-       [] { return revolved({{0.6, 0}, {1.2, 0}, {1.2, 0.5}, {0.6, 0.5}}, true); }},
+       [] {
+         return revolved({{0.6, 0}, {1.2, 0}, {1.2, 0.5}, {0.6, 0.5}}, true);
+       }},
       {{"bolt", "head of radius 1, 0.4 high, on a shaft of radius 0.4, 1.5 long; sharp rims, one concave", 0},
-       [] { return revolved({{0, 0}, {0.4, 0}, {0.4, 1.5}, {1, 1.5}, {1, 1.9}, {0, 1.9}}, false); }},
+       [] {
+         return revolved({{0, 0}, {0.4, 0}, {0.4, 1.5}, {1, 1.5}, {1, 1.9}, {0, 1.9}}, false);
+       }},
       {{"dome", "half ball of radius 1, sharp rim", 0}, dome},
   };
   return table;

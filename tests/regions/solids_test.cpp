@@ -1,12 +1,12 @@
 // The built-in solids (solids.hpp): each is a closed, outward, self-intersection-free surface
 // of the genus it names; the building blocks on analytic cases; the error paths.
+#include "structmesh/solids.hpp"
 #include "structmesh/check.hpp"
 #include "structmesh/error.hpp"
 #include "structmesh/io.hpp"
-#include "structmesh/solids.hpp"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include <string>
 #include <vector>
