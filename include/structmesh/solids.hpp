@@ -44,10 +44,11 @@ TriMesh voxel_union_surface(std::span<const std::array<int, 3>> cells, int subdi
 /// Torus around the z axis (radii big, small), u x v vertices, vertex 0 at (big + small, 0, 0).
 TriMesh torus_surface(double big, double small, int u, int v);
 
-/// The surface swept by turning `profile` (points (r, z), r >= 0) about the z axis in
-/// `around` steps, oriented outward. An open profile starts and ends on the axis (r = 0:
-/// poles); a closed one (`closed`) stays off it and sweeps a solid torus. Profile corners
-/// stay sharp edges.
+/// The surface swept by turning `profile` (at least 3 points (r, z)) about the z axis in
+/// `around` (>= 3) steps, oriented outward. An open profile starts and ends on the axis
+/// (r = 0: poles) and stays off it in between; a closed one (`closed`) stays off it
+/// (r > 0) and sweeps a solid torus. Profile corners stay sharp edges. Throws InputError
+/// otherwise. The profile must not cross itself (not checked).
 TriMesh surface_of_revolution(std::span<const std::pair<double, double>> profile, int around, bool closed);
 
 /// Taubin's lambda|mu smoothing (umbrella operator, lambda 0.5, mu -0.53), `iterations`

@@ -117,15 +117,20 @@ TriMesh torus_surface(double big, double small, int u, int v) {
 }
 
 TriMesh surface_of_revolution(std::span<const std::pair<double, double>> profile, int around, bool closed) {
-  if (profile.size() < (closed ? 3u : 2u) || around < 3)
-    throw InputError("surface_of_revolution: a profile of at least 3 points (2 open) and 3 steps around");
+  if (profile.size() < 3 || around < 3)
+    throw InputError("surface_of_revolution: a profile of at least 3 points and 3 steps around");
   if (!closed && (profile.front().first != 0 || profile.back().first != 0))
     throw InputError("surface_of_revolution: an open profile starts and ends on the axis (r = 0)");
   TriMesh mesh;
   std::vector<std::vector<Index>> rings;
-  for (const auto& [r, z] : profile) {
-    if (r < 0 || (closed && r == 0))
-      throw InputError("surface_of_revolution: profile radius " + std::to_string(r) + " off the half-plane r > 0");
+  for (std::size_t i = 0; i < profile.size(); ++i) {
+    const auto [r, z] = profile[i];
+    // Only an open profile's two ends may lie on the axis: a point there in between would
+    // pinch the surface to a point.
+    const bool end = !closed && (i == 0 || i + 1 == profile.size());
+    if (r < 0 || (r == 0 && !end))
+      throw InputError("surface_of_revolution: profile point " + std::to_string(i) + " has radius " +
+                       std::to_string(r) + ", off the half-plane r > 0");
     std::vector<Index> ring;
     const int copies = r == 0 ? 1 : around;
     for (int j = 0; j < copies; ++j) {

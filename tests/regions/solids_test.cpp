@@ -62,13 +62,17 @@ TEST(BuiltinSolids, RevolvedRectangleIsACylinderOfTheRightVolume) {
   }
 }
 
-TEST(BuiltinSolids, RevolutionRejectsAProfileOffTheAxisOrAcrossIt) {
+TEST(BuiltinSolids, RevolutionRejectsAProfileOffTheAxisAcrossItOrPinchedOnIt) {
   const std::vector<std::pair<double, double>> open_off_axis{{0.5, 0}, {1, 0}, {1, 1}};
   EXPECT_THROW(surface_of_revolution(open_off_axis, 16, false), InputError);
   const std::vector<std::pair<double, double>> closed_on_axis{{0, 0}, {1, 0}, {1, 1}};
   EXPECT_THROW(surface_of_revolution(closed_on_axis, 16, true), InputError);
   const std::vector<std::pair<double, double>> negative{{0, 0}, {-1, 0}, {0, 1}};
   EXPECT_THROW(surface_of_revolution(negative, 16, false), InputError);
+  const std::vector<std::pair<double, double>> pinched{{0, 0}, {1, 0}, {0, 1}, {1, 2}, {0, 2}};
+  EXPECT_THROW(surface_of_revolution(pinched, 16, false), InputError);
+  const std::vector<std::pair<double, double>> two_poles{{0, 0}, {0, 1}};
+  EXPECT_THROW(surface_of_revolution(two_poles, 16, false), InputError);
 }
 
 TEST(BuiltinSolids, TaubinSmoothingKeepsAVoxelCubesSizeAndRoundsIt) {
