@@ -84,6 +84,9 @@ struct TriMesh {
   BoundingBox3 bounding_box() const { return structmesh::bounding_box(points); }
 };
 
+/// Signed volume enclosed by a triangle surface (> 0 when its normals point outward).
+double enclosed_volume(const TriMesh& surface);
+
 struct QuadMesh {
   std::vector<Vec3> points;  // planar meshes use z = 0
   std::vector<std::array<Index, 4>> quads;

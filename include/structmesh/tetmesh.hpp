@@ -40,9 +40,6 @@ TetmeshResult tetrahedralize(const TriMesh& surface, const TetmeshOptions& optio
 /// triangles. The default tet size.
 double mean_edge_length(const TriMesh& surface);
 
-/// Signed volume enclosed by a triangle surface (> 0 when its normals point outward).
-double enclosed_volume(const TriMesh& surface);
-
 /// What repair_solid_surface() changed.
 struct SurfaceRepair {
   std::size_t holes = 0, added_faces = 0;  ///< holes closed, triangles added to close them

@@ -4,6 +4,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <string>
 #include <tuple>
@@ -48,6 +50,18 @@ double area(const Polygon2& polygon) {
     total += r == 0 ? a : -a;
   }
   return total;
+}
+
+double enclosed_volume(const TriMesh& surface) {
+  // Divergence theorem, relative to the box centre for conditioning.
+  const BoundingBox3 box = surface.bounding_box();
+  const Vec3 origin = box.empty() ? Vec3::Zero() : Vec3(0.5 * (box.min + box.max));
+  double six_volume = 0;
+  for (const auto& t : surface.triangles) {
+    const Vec3 a = surface.points[t[0]] - origin, b = surface.points[t[1]] - origin, c = surface.points[t[2]] - origin;
+    six_volume += a.dot(b.cross(c));
+  }
+  return six_volume / 6.0;
 }
 
 namespace {

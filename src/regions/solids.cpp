@@ -156,11 +156,8 @@ TriMesh surface_of_revolution(std::span<const std::pair<double, double>> profile
       }
     }
   }
-  // Outward whichever way the profile runs: the enclosed volume (divergence theorem) is
-  // positive for outward triangles.
-  double volume = 0;
-  for (const auto& [a, b, c] : mesh.triangles) volume += mesh.points[a].dot(mesh.points[b].cross(mesh.points[c]));
-  if (volume < 0)
+  // Outward whichever way the profile runs.
+  if (enclosed_volume(mesh) < 0)
     for (auto& triangle : mesh.triangles) std::swap(triangle[1], triangle[2]);
   return mesh;
 }

@@ -165,18 +165,6 @@ double mean_edge_length(const TriMesh& surface) {
   return surface.triangles.empty() ? 0 : sum / (3.0 * static_cast<double>(surface.triangles.size()));
 }
 
-double enclosed_volume(const TriMesh& surface) {
-  // Divergence theorem, relative to the box centre for conditioning.
-  const BoundingBox3 box = surface.bounding_box();
-  const Vec3 origin = box.empty() ? Vec3::Zero() : Vec3(0.5 * (box.min + box.max));
-  double six_volume = 0;
-  for (const auto& t : surface.triangles) {
-    const Vec3 a = surface.points[t[0]] - origin, b = surface.points[t[1]] - origin, c = surface.points[t[2]] - origin;
-    six_volume += a.dot(b.cross(c));
-  }
-  return six_volume / 6.0;
-}
-
 TetmeshResult tetrahedralize(const TriMesh& surface, const TetmeshOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   if (!(options.size >= 0) || !std::isfinite(options.size))

@@ -11,13 +11,6 @@ namespace {
 
 using test::voxel_surface;
 
-double enclosed_volume(const TriMesh& mesh) {
-  double volume = 0;
-  for (const auto& t : mesh.triangles)
-    volume += mesh.points[t[0]].dot(mesh.points[t[1]].cross(mesh.points[t[2]])) / 6.0;
-  return volume;
-}
-
 // Independent exact check: v is seen from p when the segment p-v meets no face that
 // does not contain v (exact predicates, no tolerance).
 bool exact_sees(const TriMesh& mesh, const Vec3& p, Index v) {
