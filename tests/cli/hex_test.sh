@@ -110,6 +110,26 @@ END
 "$sm" hex "$torus" --hexes 100 --size 0.1 -o "$work/both.vtu" 2>/dev/null
 status=$?
 [[ $status -eq 2 ]] || fail "--hexes with --size: exit $status, expected 2"
+# --max-deviation below the torus's D_g (the same run as the first above): exit 1 with a
+# message, no mesh and no polycube written, the report written and saying why. The first
+# run, under no limit and far below the warning level, has no warnings.
+limit=$(python3 -c "import json, sys; print(json.load(open(sys.argv[1]))['geometric_deviation'] / 2)" "$work/report.json")
+"$sm" hex "$torus" --hexes 3000 --max-deviation "$limit" -o "$work/far.vtu" --polycube "$work/far.obj" \
+  --json "$work/far.json" --quiet 2>"$work/far.err"
+status=$?
+[[ $status -eq 1 ]] || fail "--max-deviation $limit: exit $status, expected 1"
+grep -q "more than --max-deviation" "$work/far.err" || fail "--max-deviation message: $(cat "$work/far.err")"
+[[ ! -e "$work/far.vtu" && ! -e "$work/far.obj" ]] || fail "--max-deviation left a mesh behind"
+python3 - "$work" <<'END' || fail "--max-deviation report"
+import json, sys
+work = sys.argv[1]
+plain, far = (json.load(open(f"{work}/{name}.json")) for name in ("report", "far"))
+assert plain["warnings"] == [] and plain["max_deviation_exceeded"] is False, plain["warnings"]
+assert far["max_deviation_exceeded"] is True and far["geometric_deviation"] == plain["geometric_deviation"], far
+END
+"$sm" hex "$torus" --hexes 100 --max-deviation 1.5 -o "$work/bad.vtu" 2>/dev/null
+status=$?
+[[ $status -eq 2 ]] || fail "--max-deviation 1.5: exit $status, expected 2"
 # A grid above --max-hexes is refused (exit 1, runtime) with a message, and nothing written.
 "$sm" hex "$torus" --hexes 3000 --max-hexes 500 -o "$work/big.vtu" 2>"$work/big.err"
 status=$?
