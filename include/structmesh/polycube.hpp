@@ -188,6 +188,14 @@ VoxelGrid voxelize(const TriMesh& surface, double size, std::size_t max_voxels =
 /// InputError for a surface with no triangles.
 std::size_t cover_thin_features(VoxelGrid& grid, const TriMesh& surface);
 
+/// For parts of the surface no voxel reaches (an appendage thinner than a voxel, which
+/// voxelize() drops without changing the topology): a vertex with no occupied voxel within
+/// one voxel of its own is far; the empty voxels that triangles at far vertices meet are
+/// added, in rings outwards from the set, each where it touches the set and its addition is
+/// simple (is_simple_voxel), so the topology is kept. Returns the number added (0 and the
+/// grid unchanged when no vertex is far). InputError for an empty grid.
+std::size_t cover_far_points(VoxelGrid& grid, const TriMesh& surface);
+
 /// Unsigned distance from the grid vertices (VoxelGrid::vertex_index) to the surface,
 /// exact (closest point) for the vertices within `band` voxels (Chebyshev) of a square
 /// on the boundary of the voxel union, where the optimisation can move that boundary;
@@ -251,6 +259,8 @@ struct PolycubeOptimizationResult {
   PolycubeEnergy before, after;
   std::size_t openings = 0, closings = 0;  ///< accepted operations
   std::size_t sweeps = 0;                  ///< passes over the boundary voxels, all windows
+  /// Openings refused because they would have cut off points of Q (covered_points below).
+  std::size_t refused_openings = 0;
 };
 
 /// The moving-window optimisation of §4.4.2: for window radius r from max_window down to
@@ -263,8 +273,14 @@ struct PolycubeOptimizationResult {
 /// and the result does not depend on their number. InputError for a `vertex_distance`
 /// of the wrong size or with a value that is not finite, a negative or non-finite alpha
 /// or threshold, or max_window < 1.
+///
+/// With `covered_points` (Q's points, in the grid's frame), an opening is also refused
+/// where it would leave one of them that had an occupied voxel within 3 voxels (by index)
+/// without one: E_g does not see a thin limb go (its voxels lie near Q, and so does the
+/// stump's new boundary).
 PolycubeOptimizationResult optimize_polycube(VoxelGrid& grid, std::span<const double> vertex_distance,
-                                             const PolycubeOptimizationOptions& options = {});
+                                             const PolycubeOptimizationOptions& options = {},
+                                             std::span<const Vec3> covered_points = {});
 
 // ---------------------------------------------------------------------------
 // The whole construction of chapter 4.
@@ -297,6 +313,7 @@ struct PolycubeOptions {
   double voxel_size = 0;              ///< 0: the Morse resolution eta, refined until the topology is kept
   int max_resolution =
       160;  ///< the first size: at most this many voxels along the longest axis (refinements may double it)
+  /// The moving-window optimisation (§4.4.2); optimization.max_window = 0 skips it.
   PolycubeOptimizationOptions optimization;
   /// After the optimisation, facets move by up to this many voxels onto planes other facets
   /// use (merge_facet_planes; 0: off).
@@ -320,6 +337,12 @@ struct PolycubeResult {
   /// Voxels cover_thin_features() added because the voxels with centres inside Q did
   /// not keep its topology at the size used (0: not needed).
   std::size_t thin_feature_voxels = 0;
+  /// Voxels cover_far_points() added for parts of Q that no voxel reached.
+  std::size_t far_point_voxels = 0;
+  /// Whether the optimisation ran again with Q's points guarded (optimize_polycube's
+  /// covered_points) because the first run cut off a limb: a point of Q that had a voxel
+  /// within 3 had none within 10 after it.
+  bool optimization_guarded = false;
   PolycubeOptimizationResult optimization;  ///< its `after` energy includes the plane merging
   PolycubeEnergy before_merge;              ///< the optimisation's own result, before plane merging
   PlaneMergeResult plane_merge;

@@ -28,8 +28,10 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
 #include <string>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -215,6 +217,7 @@ struct WindowDecision {
   enum Operation : std::uint8_t { kKeep, kOpen, kClose };
   Operation operation = kKeep;
   bool evaluated = false;
+  bool opening_refused = false;  // the opening would have lowered E_p but cut off points of Q
 };
 
 /// Windows whose opening or closing leaves every voxel as it was, by content: that
@@ -265,6 +268,113 @@ class UnchangedMemo {
   std::size_t stored_words_ = 0;
 };
 
+/// The guard that keeps openings from cutting off thin parts of Q. E_g sums distances at
+/// P's boundary (P to Q) and, in its volume term, the distances of flipped voxels' centres
+/// to Q, so removing a limb a few voxels thick costs almost nothing: its voxels all lie
+/// near Q's surface, and the stump's new boundary lies on Q too. The TOSCA dog lost a leg
+/// so (an opening of radius 5 took 30 voxels of a plank two thick), and its hex mesh with
+/// it. Here each of Q's points counts the occupied voxels within kCoverageRadius voxels of
+/// its own (by index, a 7 x 7 x 7 box); an opening that would leave a point that had one
+/// with none is refused (when the window is evaluated, and again when it is committed, as
+/// operations committed since may have changed the counts). Closings only add voxels.
+class CoverageGuard {
+ public:
+  static constexpr int kCoverageRadius = 3;
+  /// Per thread: the coverage each point would lose, and which points lost some.
+  struct Scratch {
+    std::vector<std::uint32_t> lost, touched;
+  };
+  CoverageGuard(const VoxelGrid& grid, std::span<const Vec3> points) : grid_(grid) {
+    // The points of each voxel, as compressed rows over the whole grid.
+    std::vector<std::uint32_t> cell(points.size());
+    first_.assign(grid.occupied.size() + 1, 0);
+    for (std::size_t p = 0; p < points.size(); ++p) {
+      std::array<int, 3> c{};
+      for (int a = 0; a < 3; ++a)
+        c[a] =
+            std::clamp(static_cast<int>(std::floor((points[p][a] - grid.origin[a]) / grid.size)), 0, grid.dims[a] - 1);
+      cell[p] = static_cast<std::uint32_t>(grid.index(c[0], c[1], c[2]));
+      ++first_[cell[p] + 1];
+    }
+    for (std::size_t i = 1; i < first_.size(); ++i) first_[i] += first_[i - 1];
+    point_.resize(points.size());
+    std::vector<std::uint32_t> at(first_.begin(), first_.end() - 1);
+    for (std::size_t p = 0; p < points.size(); ++p) point_[at[cell[p]]++] = static_cast<std::uint32_t>(p);
+    count_.assign(points.size(), 0);
+    for (std::size_t p = 0; p < points.size(); ++p) {
+      const auto [x, y, z] = coordinates(cell[p]);
+      std::uint32_t n = 0;
+      for_box(x, y, z, [&](std::size_t i) { n += grid.occupied[i] != 0; });
+      count_[p] = n;
+    }
+  }
+  /// Whether emptying `removed` (voxel indices, occupied now) leaves every point that has
+  /// an occupied voxel within the radius with one. Reads only: threads may ask at once.
+  bool allows(const std::vector<std::uint32_t>& removed, Scratch& scratch) const {
+    if (scratch.lost.size() != count_.size()) scratch.lost.assign(count_.size(), 0);
+    scratch.touched.clear();
+    bool allowed = true;
+    for (const std::uint32_t voxel : removed) {
+      const auto [x, y, z] = coordinates(voxel);
+      for_box(x, y, z, [&](std::size_t cell) {
+        for (std::uint32_t k = first_[cell]; k < first_[cell + 1]; ++k) {
+          const std::uint32_t p = point_[k];
+          if (scratch.lost[p]++ == 0) scratch.touched.push_back(p);
+          if (count_[p] > 0 && scratch.lost[p] >= count_[p]) allowed = false;
+        }
+      });
+    }
+    for (const std::uint32_t p : scratch.touched) scratch.lost[p] = 0;
+    return allowed;
+  }
+  /// Counts the voxels an operation emptied (-1) or filled (+1).
+  void update(const std::vector<std::uint32_t>& voxels, int sign) {
+    for (const std::uint32_t voxel : voxels) {
+      const auto [x, y, z] = coordinates(voxel);
+      for_box(x, y, z, [&](std::size_t cell) {
+        for (std::uint32_t k = first_[cell]; k < first_[cell + 1]; ++k)
+          count_[point_[k]] += static_cast<std::uint32_t>(sign);
+      });
+    }
+  }
+
+ private:
+  std::array<int, 3> coordinates(std::size_t i) const {
+    const auto nx = static_cast<std::size_t>(grid_.dims[0]), ny = static_cast<std::size_t>(grid_.dims[1]);
+    return {static_cast<int>(i % nx), static_cast<int>(i / nx % ny), static_cast<int>(i / (nx * ny))};
+  }
+  template <class Visit>
+  void for_box(int x, int y, int z, Visit&& visit) const {
+    for (int dz = -kCoverageRadius; dz <= kCoverageRadius; ++dz)
+      for (int dy = -kCoverageRadius; dy <= kCoverageRadius; ++dy)
+        for (int dx = -kCoverageRadius; dx <= kCoverageRadius; ++dx)
+          if (grid_.inside(x + dx, y + dy, z + dz)) visit(grid_.index(x + dx, y + dy, z + dz));
+  }
+  const VoxelGrid& grid_;
+  std::vector<std::uint32_t> first_, point_;  // the points of voxel i: point_[first_[i] .. first_[i + 1])
+  std::vector<std::uint32_t> count_;          // per point: occupied voxels within the radius
+};
+
+/// The voxels of a window that an operation flipped: those it emptied, those it filled.
+void flipped_voxels(const voxel::VoxelWindow& window, const VoxelGrid& grid, std::vector<std::uint32_t>& emptied,
+                    std::vector<std::uint32_t>& filled) {
+  emptied.clear();
+  filled.clear();
+  const auto& size = window.size();
+  const auto& origin = window.origin();
+  for (int k = 0; k < size[2]; ++k)
+    for (int j = 0; j < size[1]; ++j)
+      for (int w = 0; w < window.words(); ++w)
+        for (std::uint64_t flipped = window.row(j, k)[w] ^ window.loaded_row(j, k)[w]; flipped != 0;
+             flipped &= flipped - 1) {
+          const int bit = std::countr_zero(flipped);
+          const int x = origin[0] + 64 * w + bit, y = origin[1] + j, z = origin[2] + k;
+          if (!grid.inside(x, y, z)) continue;
+          const auto i = static_cast<std::uint32_t>(grid.index(x, y, z));
+          ((window.row(j, k)[w] >> bit) & 1 ? filled : emptied).push_back(i);
+        }
+}
+
 /// One thread's window, buffers and memo.
 class WindowEvaluator {
  public:
@@ -272,20 +382,28 @@ class WindowEvaluator {
   /// lowers E_p by more than the threshold; the grid is not changed.
   WindowDecision evaluate(const VoxelGrid& grid, const voxel::PackedVoxels& packed, const VoxelBox& box, int radius,
                           std::span<const double> vertex_distance, const std::vector<std::uint8_t>& reference,
-                          const PolycubeOptimizationOptions& options) {
+                          const PolycubeOptimizationOptions& options, const CoverageGuard* guard) {
     WindowDecision decision;
     decision.evaluated = true;
+    decision.opening_refused = false;
     if (!window_.load(packed, box)) return decision;
     const std::uint8_t known = memo_.find(window_, radius);
     std::uint8_t unchanged = known;
     // An operation that changes nothing changes no energy.
     EnergyChange open_change, close_change;
+    bool open_refused = false;
     if (!(known & UnchangedMemo::kOpeningUnchanged)) {
       window_.open(radius);
-      if (window_.changed())
+      if (window_.changed()) {
         open_change = energy_change(window_, grid, vertex_distance, reference);
-      else
+        // Only an opening that would be chosen is worth the guard's look.
+        if (guard && open_change.total(options.alpha) < -options.threshold) {
+          flipped_voxels(window_, grid, emptied_, filled_);
+          open_refused = !guard->allows(emptied_, scratch_);
+        }
+      } else {
         unchanged |= UnchangedMemo::kOpeningUnchanged;
+      }
       window_.reset();
     }
     if (!(known & UnchangedMemo::kClosingUnchanged)) {
@@ -299,8 +417,9 @@ class WindowEvaluator {
     if (known == 0) memo_.insert(window_, radius, unchanged);
     const double alpha = options.alpha;
     const double open_total = open_change.total(alpha), close_total = close_change.total(alpha);
-    const bool open_lowers = -open_total > options.threshold + open_change.noise(alpha);
+    const bool open_lowers = !open_refused && -open_total > options.threshold + open_change.noise(alpha);
     const bool close_lowers = -close_total > options.threshold + close_change.noise(alpha);
+    decision.opening_refused = open_refused;
     if (open_lowers && (!close_lowers || open_total <= close_total))
       decision.operation = WindowDecision::kOpen;
     else if (close_lowers)
@@ -309,19 +428,35 @@ class WindowEvaluator {
   }
   /// Carries out an operation `evaluate` chose; returns the number of changed voxels
   /// and the box they span.
+  /// With a `guard`, an opening it refuses is not carried out (returns 0): the guard's
+  /// counts may have changed since the evaluation, by operations committed before.
   std::size_t apply(VoxelGrid& grid, voxel::PackedVoxels& packed, const VoxelBox& box, int radius,
-                    WindowDecision::Operation operation, VoxelBox& changed) {
+                    WindowDecision::Operation operation, VoxelBox& changed, CoverageGuard* guard) {
     if (!window_.load(packed, box)) return 0;
     if (operation == WindowDecision::kOpen)
       window_.open(radius);
     else
       window_.close(radius);
+    if (guard) {
+      flipped_voxels(window_, grid, emptied_, filled_);
+      if (!emptied_.empty() && !guard->allows(emptied_, scratch_)) {
+        ++refused_at_commit_;
+        return 0;
+      }
+      guard->update(emptied_, -1);
+      guard->update(filled_, +1);
+    }
     return window_.store(grid, &changed, &packed);
   }
 
  private:
   voxel::VoxelWindow window_;
   UnchangedMemo memo_;
+  std::vector<std::uint32_t> emptied_, filled_;
+  CoverageGuard::Scratch scratch_;
+
+ public:
+  std::size_t refused_at_commit_ = 0;  // openings apply() refused
 };
 
 }  // namespace
@@ -348,7 +483,8 @@ PolycubeEnergy polycube_energy(const VoxelGrid& grid, std::span<const double> ve
 }
 
 PolycubeOptimizationResult optimize_polycube(VoxelGrid& grid, std::span<const double> vertex_distance,
-                                             const PolycubeOptimizationOptions& options) {
+                                             const PolycubeOptimizationOptions& options,
+                                             std::span<const Vec3> covered_points) {
   if (!(options.alpha >= 0) || !std::isfinite(options.alpha))
     throw InputError("optimize_polycube: alpha must be a finite number >= 0, not " + std::to_string(options.alpha));
   if (!(options.threshold >= 0) || !std::isfinite(options.threshold))
@@ -371,6 +507,9 @@ PolycubeOptimizationResult optimize_polycube(VoxelGrid& grid, std::span<const do
   WindowEvaluator& committer = evaluators.local();
   TileVersions tiles(grid);
   voxel::PackedVoxels packed(grid);
+  std::optional<CoverageGuard> guard;
+  if (!covered_points.empty()) guard.emplace(grid, covered_points);
+  std::size_t refused = 0;
   std::uint32_t version = 0;  // accepted operations so far
   const int nx = grid.dims[0], ny = grid.dims[1];
   for (int radius = options.max_window; radius >= 1; --radius) {
@@ -418,8 +557,9 @@ PolycubeOptimizationResult optimize_polycube(VoxelGrid& grid, std::span<const do
                             WindowEvaluator& evaluator = evaluators.local();
                             for (std::size_t i = range.begin(); i < range.end(); ++i)
                               if (needs_evaluation(i))
-                                decisions[i - chunk] = evaluator.evaluate(grid, packed, window_box(boundary[i]), radius,
-                                                                          vertex_distance, reference, options);
+                                decisions[i - chunk] =
+                                    evaluator.evaluate(grid, packed, window_box(boundary[i]), radius, vertex_distance,
+                                                       reference, options, guard ? &*guard : nullptr);
                           });
         for (std::size_t i = chunk; i < chunk_end; ++i) {
           const VoxelBox box = window_box(boundary[i]);
@@ -427,11 +567,14 @@ PolycubeOptimizationResult optimize_polycube(VoxelGrid& grid, std::span<const do
           if (evaluated[i] != kNever && newest <= evaluated[i]) continue;
           WindowDecision decision = decisions[i - chunk];
           if (!decision.evaluated || newest > chunk_version)
-            decision = committer.evaluate(grid, packed, box, radius, vertex_distance, reference, options);
+            decision = committer.evaluate(grid, packed, box, radius, vertex_distance, reference, options,
+                                          guard ? &*guard : nullptr);
+          refused += decision.opening_refused;
           evaluated[i] = version;
           if (decision.operation == WindowDecision::kKeep) continue;
           VoxelBox changed;
-          if (committer.apply(grid, packed, box, radius, decision.operation, changed) == 0) continue;
+          if (committer.apply(grid, packed, box, radius, decision.operation, changed, guard ? &*guard : nullptr) == 0)
+            continue;
           ++version;
           tiles.stamp(changed.lo, changed.hi, version);
           ++accepted;
@@ -449,10 +592,14 @@ PolycubeOptimizationResult optimize_polycube(VoxelGrid& grid, std::span<const do
       char elapsed[32];
       std::snprintf(elapsed, sizeof elapsed, " (%.1f s)", seconds);
       status("polycube: window radius " + std::to_string(radius) + ": " + std::to_string(radius_sweeps) + " sweeps, " +
-             std::to_string(radius_openings) + " openings, " + std::to_string(radius_closings) + " closings" + elapsed);
+             std::to_string(radius_openings) + " openings, " + std::to_string(radius_closings) + " closings" +
+             (guard ? ", " + std::to_string(refused + committer.refused_at_commit_) + " openings refused so far"
+                    : std::string()) +
+             elapsed);
     }
   }
   result.after = polycube_energy(grid, vertex_distance, options.alpha, &reference_grid);
+  result.refused_openings = refused + committer.refused_at_commit_;
   return result;
 }
 

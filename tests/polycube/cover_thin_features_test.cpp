@@ -4,6 +4,7 @@
 // lose the topology. And the topological numbers it relies on, on configurations whose
 // counts are known.
 #include "polycube/shapes.hpp"
+#include "polycube/voxel_checks.hpp"
 #include "polycube/voxel_neighbourhood.hpp"
 #include "structmesh/error.hpp"
 #include "structmesh/polycube.hpp"
@@ -45,16 +46,10 @@ TEST(CoverThinFeatures, TiltedPlateThinnerThanAVoxelBecomesOnePiece) {
   // Only voxels are added, each one the plate passes through: its centre is within half a
   // voxel diagonal of the plate's middle plane, give or take half the thickness.
   const Vec3 normal = Eigen::AngleAxisd(kTiltDegrees * std::numbers::pi / 180, Vec3::UnitX()) * Vec3::UnitZ();
-  for (int z = 0; z < grid.dims[2]; ++z)
-    for (int y = 0; y < grid.dims[1]; ++y)
-      for (int x = 0; x < grid.dims[0]; ++x) {
-        if (before.at(x, y, z)) {
-          EXPECT_TRUE(grid.at(x, y, z));
-        }
-        if (!grid.at(x, y, z) || before.at(x, y, z)) continue;
-        const Vec3 centre = grid.origin + kVoxel * Vec3(x + 0.5, y + 0.5, z + 0.5);
-        EXPECT_LE(std::abs(normal.dot(centre)), std::sqrt(3.0) / 2 * kVoxel + kThickness / 2 + 1e-12);
-      }
+  test::expect_only_additions(before, grid, [&](int x, int y, int z) {
+    const Vec3 centre = grid.origin + kVoxel * Vec3(x + 0.5, y + 0.5, z + 0.5);
+    EXPECT_LE(std::abs(normal.dot(centre)), std::sqrt(3.0) / 2 * kVoxel + kThickness / 2 + 1e-12);
+  });
 }
 
 TEST(CoverThinFeatures, LeavesAShapeWithoutThinPartsAsItWas) {

@@ -822,6 +822,38 @@ TEST(OptimizePolycube, KeepsABumpTheDistanceFieldWantsWhenAlphaIsLarge) {
   EXPECT_DOUBLE_EQ(removed.after.deviation, 1.0 + 4 * (1.0 / 8));
 }
 
+TEST(OptimizePolycube, CoveredPointsKeepALegTheDistanceFieldDoesNotWant) {
+  // A box with a leg two voxels thick and eight long; the distances are to the box alone,
+  // so E_p wants the leg gone, and an opening takes it. With points of Q along the leg,
+  // the guard refuses every opening that would leave one of them without a voxel within 3.
+  VoxelGrid grid = make_grid(22, 12, 12);
+  fill(grid, {2, 2, 2}, {10, 10, 10});
+  const VoxelGrid box = grid;
+  fill(grid, {10, 5, 5}, {18, 7, 7});
+  const VoxelGrid with_leg = grid;
+  const std::vector<double> distance = distance_to_box(grid, {2, 2, 2}, {10, 10, 10});
+  const PolycubeOptimizationResult removed = optimize_polycube(grid, distance);
+  EXPECT_EQ(grid.occupied, box.occupied);
+  EXPECT_EQ(removed.refused_openings, 0u);
+
+  std::vector<Vec3> leg;
+  for (int x = 10; x < 18; ++x) leg.push_back(grid.origin + grid.size * Vec3(x + 0.5, 6.0, 6.0));
+  grid = with_leg;
+  const PolycubeOptimizationResult kept = optimize_polycube(grid, distance, {}, leg);
+  EXPECT_GT(kept.refused_openings, 0u);
+  EXPECT_EQ(betti(voxel_topology(grid)), betti(voxel_topology(with_leg)));
+  for (const Vec3& p : leg) {
+    const int x = static_cast<int>(std::floor((p.x() - grid.origin.x()) / grid.size));
+    bool near = false;
+    for (int dx = -3; dx <= 3; ++dx)
+      for (int dy = -3; dy <= 3; ++dy)
+        for (int dz = -3; dz <= 3; ++dz) near = near || grid.at(x + dx, 5 + dy, 5 + dz);
+    EXPECT_TRUE(near) << x;
+  }
+  // The leg may lose up to 3 voxels at its end (the guard's radius), not more.
+  EXPECT_TRUE(grid.at(14, 5, 5) || grid.at(14, 5, 6) || grid.at(14, 6, 5) || grid.at(14, 6, 6));
+}
+
 TEST(OptimizePolycube, KeepsTopologyAndWellComposednessAndLowersTheEnergy) {
   // Noisy solids: a torus and a genus-3 plate with random bumps and pits, against the
   // distance to the clean shape's boundary vertices.
