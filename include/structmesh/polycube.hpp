@@ -118,6 +118,11 @@ struct VoxelGrid {
   }
   std::size_t vertex_count() const { return static_cast<std::size_t>(dims[0] + 1) * (dims[1] + 1) * (dims[2] + 1); }
   Vec3 vertex_position(int x, int y, int z) const { return origin + size * Vec3(x, y, z); }
+  /// The voxel whose cube holds p, clamped into the grid.
+  std::array<int, 3> voxel_of(const Vec3& p) const;
+  /// Whether an occupied voxel lies within `radius` voxels of (x, y, z) along every axis
+  /// (the (2 radius + 1)^3 block around it, itself included).
+  bool occupied_within(int x, int y, int z, int radius) const;
 };
 
 /// Topology of the union of the occupied closed cubes (§4.5.1): the cells of the

@@ -44,25 +44,15 @@ std::string settle_voxels(PolycubeResult& result, VoxelGrid voxels) {
   }
 }
 
-// Whether an occupied voxel lies within `radius` voxels (by index) of the voxel of p.
-bool reached_within(const VoxelGrid& grid, const Vec3& p, int radius) {
-  std::array<int, 3> c{};
-  for (int a = 0; a < 3; ++a)
-    c[a] = std::clamp(static_cast<int>(std::floor((p[a] - grid.origin[a]) / grid.size)), 0, grid.dims[a] - 1);
-  for (int dz = -radius; dz <= radius; ++dz)
-    for (int dy = -radius; dy <= radius; ++dy)
-      for (int dx = -radius; dx <= radius; ++dx)
-        if (grid.at(c[0] + dx, c[1] + dy, c[2] + dz)) return true;
-  return false;
-}
-
 // Whether the optimisation took every voxel within kCutOffRadius of a point of Q that had
 // one within 3 before: a limb gone (the dogs' forelegs, 30 voxels long), not a bump
 // shaved (no other model of the data set has a point that far from P afterwards).
 constexpr int kCutOffRadius = 10;
 bool cut_off_points(const VoxelGrid& before, const VoxelGrid& after, std::span<const Vec3> points) {
-  for (const Vec3& p : points)
-    if (!reached_within(after, p, kCutOffRadius) && reached_within(before, p, 3)) return true;
+  for (const Vec3& p : points) {
+    const auto [x, y, z] = before.voxel_of(p);  // the same grid as after
+    if (!after.occupied_within(x, y, z, kCutOffRadius) && before.occupied_within(x, y, z, 3)) return true;
+  }
   return false;
 }
 

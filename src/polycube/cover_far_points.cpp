@@ -26,31 +26,7 @@ namespace {
 
 using Kernel = CGAL::Simple_cartesian<double>;
 
-std::array<int, 3> cell_of(const VoxelGrid& grid, const Vec3& p) {
-  std::array<int, 3> c{};
-  for (int a = 0; a < 3; ++a)
-    c[a] = std::clamp(static_cast<int>(std::floor((p[a] - grid.origin[a]) / grid.size)), 0, grid.dims[a] - 1);
-  return c;
-}
-
 constexpr int kTriggerRadius = 5;
-
-// Whether an occupied voxel lies within `radius` voxels (by index) of voxel (x, y, z).
-bool reached_within(const VoxelGrid& grid, int x, int y, int z, int radius) {
-  for (int dz = -radius; dz <= radius; ++dz)
-    for (int dy = -radius; dy <= radius; ++dy)
-      for (int dx = -radius; dx <= radius; ++dx)
-        if (grid.at(x + dx, y + dy, z + dz)) return true;
-  return false;
-}
-
-bool touches_occupied(const VoxelGrid& grid, int x, int y, int z) {
-  for (int dz = -1; dz <= 1; ++dz)
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx)
-        if ((dx != 0 || dy != 0 || dz != 0) && grid.at(x + dx, y + dy, z + dz)) return true;
-  return false;
-}
 
 }  // namespace
 
@@ -62,14 +38,14 @@ std::size_t cover_far_points(VoxelGrid& grid, const TriMesh& surface) {
   // has 217 vertices five voxels out and 200 eight.
   bool triggered = false;
   for (std::size_t v = 0; v < surface.points.size() && !triggered; ++v) {
-    const auto [x, y, z] = cell_of(grid, surface.points[v]);
-    triggered = !reached_within(grid, x, y, z, kTriggerRadius);
+    const auto [x, y, z] = grid.voxel_of(surface.points[v]);
+    triggered = !grid.occupied_within(x, y, z, kTriggerRadius);
   }
   if (!triggered) return 0;
   std::vector<std::uint8_t> far(surface.points.size(), 0);
   for (std::size_t v = 0; v < surface.points.size(); ++v) {
-    const auto [x, y, z] = cell_of(grid, surface.points[v]);
-    far[v] = !reached_within(grid, x, y, z, 1);
+    const auto [x, y, z] = grid.voxel_of(surface.points[v]);
+    far[v] = !grid.occupied_within(x, y, z, 1);
   }
 
   // The empty voxels whose closed cube a triangle with a far vertex meets.
@@ -80,7 +56,7 @@ std::size_t cover_far_points(VoxelGrid& grid, const TriMesh& surface) {
     const Vec3 &a = surface.points[t[0]], &b = surface.points[t[1]], &c = surface.points[t[2]];
     const Kernel::Triangle_3 triangle({a.x(), a.y(), a.z()}, {b.x(), b.y(), b.z()}, {c.x(), c.y(), c.z()});
     const Vec3 lo = a.cwiseMin(b).cwiseMin(c), hi = a.cwiseMax(b).cwiseMax(c);
-    const auto first = cell_of(grid, lo), last = cell_of(grid, hi);
+    const auto first = grid.voxel_of(lo), last = grid.voxel_of(hi);
     for (int z = first[2]; z <= last[2]; ++z)
       for (int y = first[1]; y <= last[1]; ++y)
         for (int x = first[0]; x <= last[0]; ++x) {
@@ -108,7 +84,7 @@ std::size_t cover_far_points(VoxelGrid& grid, const TriMesh& surface) {
     for (const std::uint32_t i : candidates) {
       if (grid.occupied[i]) continue;
       const int x = static_cast<int>(i % nx), y = static_cast<int>(i / nx % ny), z = static_cast<int>(i / (nx * ny));
-      if (touches_occupied(grid, x, y, z)) touching.push_back(i);
+      if (grid.occupied_within(x, y, z, 1)) touching.push_back(i);  // i itself is empty
     }
     for (const std::uint32_t i : touching) {
       const int x = static_cast<int>(i % nx), y = static_cast<int>(i / nx % ny), z = static_cast<int>(i / (nx * ny));

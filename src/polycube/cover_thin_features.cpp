@@ -57,14 +57,10 @@ std::size_t cover_thin_features(VoxelGrid& grid, const TriMesh& surface) {
   // around the surface, so the ranges below stay inside it.
   std::vector<std::uint32_t> added;
   std::vector<std::uint8_t> marked(grid.occupied.size(), 0);
-  const auto cell = [&](double c, int a) {
-    return std::clamp(static_cast<int>(std::floor((c - grid.origin[a]) / grid.size)), 0, grid.dims[a] - 1);
-  };
   for (const Triangle& t : triangles) {
     const auto bbox = t.bbox();
-    const int x0 = cell(bbox.xmin(), 0), x1 = cell(bbox.xmax(), 0);
-    const int y0 = cell(bbox.ymin(), 1), y1 = cell(bbox.ymax(), 1);
-    const int z0 = cell(bbox.zmin(), 2), z1 = cell(bbox.zmax(), 2);
+    const auto [x0, y0, z0] = grid.voxel_of(Vec3(bbox.xmin(), bbox.ymin(), bbox.zmin()));
+    const auto [x1, y1, z1] = grid.voxel_of(Vec3(bbox.xmax(), bbox.ymax(), bbox.zmax()));
     for (int z = z0; z <= z1; ++z)
       for (int y = y0; y <= y1; ++y)
         for (int x = x0; x <= x1; ++x) {

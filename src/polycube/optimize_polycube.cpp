@@ -289,11 +289,8 @@ class CoverageGuard {
     std::vector<std::uint32_t> cell(points.size());
     first_.assign(grid.occupied.size() + 1, 0);
     for (std::size_t p = 0; p < points.size(); ++p) {
-      std::array<int, 3> c{};
-      for (int a = 0; a < 3; ++a)
-        c[a] =
-            std::clamp(static_cast<int>(std::floor((points[p][a] - grid.origin[a]) / grid.size)), 0, grid.dims[a] - 1);
-      cell[p] = static_cast<std::uint32_t>(grid.index(c[0], c[1], c[2]));
+      const auto [x, y, z] = grid.voxel_of(points[p]);
+      cell[p] = static_cast<std::uint32_t>(grid.index(x, y, z));
       ++first_[cell[p] + 1];
     }
     for (std::size_t i = 1; i < first_.size(); ++i) first_[i] += first_[i - 1];
