@@ -118,6 +118,11 @@ struct VoxelGrid {
   }
   std::size_t vertex_count() const { return static_cast<std::size_t>(dims[0] + 1) * (dims[1] + 1) * (dims[2] + 1); }
   Vec3 vertex_position(int x, int y, int z) const { return origin + size * Vec3(x, y, z); }
+  /// The coordinates (x, y, z) of the voxel with this index().
+  std::array<int, 3> coordinates(std::size_t index) const {
+    const auto nx = static_cast<std::size_t>(dims[0]), ny = static_cast<std::size_t>(dims[1]);
+    return {static_cast<int>(index % nx), static_cast<int>(index / nx % ny), static_cast<int>(index / (nx * ny))};
+  }
   /// The voxel whose cube holds p, clamped into the grid.
   std::array<int, 3> voxel_of(const Vec3& p) const;
   /// Whether an occupied voxel lies within `radius` voxels of (x, y, z) along every axis

@@ -45,7 +45,7 @@ std::string settle_voxels(PolycubeResult& result, VoxelGrid voxels) {
 }
 
 // Whether the optimisation took every voxel within kCutOffRadius of a point of Q that had
-// one within 3 before: a limb gone (the dogs' forelegs, 30 voxels long), not a bump
+// one within 3 before: a limb gone (the closed dog's foreleg, 30 voxels long), not a bump
 // shaved (no other model of the data set has a point that far from P afterwards).
 constexpr int kCutOffRadius = 10;
 bool cut_off_points(const VoxelGrid& before, const VoxelGrid& after, std::span<const Vec3> points) {
@@ -198,8 +198,8 @@ PolycubeResult build_polycube(const TriMesh& input, const PolycubeOptions& optio
   if (optimization.max_window > 0) {
     result.optimization = optimize_polycube(result.voxels, distance, optimization);
     // Where that cut off a limb, again with the coverage guard (optimize_polycube's
-    // covered_points): E_g does not see a thin limb go (the dogs lost a foreleg each, and
-    // the closed dog its tail). Only there: at 3 voxels the guard also refuses openings on
+    // covered_points): E_g does not see a thin limb go (the closed dog lost a foreleg, and
+    // dog0 after --repair too). Only there: at 3 voxels the guard also refuses openings on
     // the bunny (951), fertility and the kittens, whose meshes then come out closer to the
     // input (the bunny's D_g 0.026 -> 0.012) but by other paths (the bunny's map took its
     // second chance: 51 -> 115 s), and kitten_40k's worse (worst hex 0.74 -> 0.46).

@@ -75,7 +75,6 @@ std::size_t cover_far_points(VoxelGrid& grid, const TriMesh& surface) {
   // Growth in passes: a pass adds the candidates that touch the set as it was at the
   // pass's start (so the set grows one ring per pass, the same whatever the order) and
   // are simple to add, checked in index order on the set as it grows.
-  const auto nx = static_cast<std::uint32_t>(grid.dims[0]), ny = static_cast<std::uint32_t>(grid.dims[1]);
   std::size_t added = 0;
   std::vector<std::uint32_t> touching;
   for (bool grew = true; grew;) {
@@ -83,11 +82,11 @@ std::size_t cover_far_points(VoxelGrid& grid, const TriMesh& surface) {
     touching.clear();
     for (const std::uint32_t i : candidates) {
       if (grid.occupied[i]) continue;
-      const int x = static_cast<int>(i % nx), y = static_cast<int>(i / nx % ny), z = static_cast<int>(i / (nx * ny));
+      const auto [x, y, z] = grid.coordinates(i);
       if (grid.occupied_within(x, y, z, 1)) touching.push_back(i);  // i itself is empty
     }
     for (const std::uint32_t i : touching) {
-      const int x = static_cast<int>(i % nx), y = static_cast<int>(i / nx % ny), z = static_cast<int>(i / (nx * ny));
+      const auto [x, y, z] = grid.coordinates(i);
       if (!is_simple_voxel(grid, x, y, z)) continue;
       grid.occupied[i] = 1;
       ++added;

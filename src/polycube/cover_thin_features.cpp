@@ -37,11 +37,6 @@ using Box = Kernel::Iso_cuboid_3;
 using Primitive = CGAL::AABB_triangle_primitive<Kernel, std::vector<Triangle>::const_iterator>;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
 
-std::array<int, 3> coordinates(const VoxelGrid& grid, std::uint32_t i) {
-  const auto nx = static_cast<std::uint32_t>(grid.dims[0]), ny = static_cast<std::uint32_t>(grid.dims[1]);
-  return {static_cast<int>(i % nx), static_cast<int>((i / nx) % ny), static_cast<int>(i / (nx * ny))};
-}
-
 }  // namespace
 
 std::size_t cover_thin_features(VoxelGrid& grid, const TriMesh& surface) {
@@ -77,7 +72,7 @@ std::size_t cover_thin_features(VoxelGrid& grid, const TriMesh& surface) {
   const Tree tree(triangles.begin(), triangles.end());
   std::vector<double> distance(added.size());
   for (std::size_t k = 0; k < added.size(); ++k) {
-    const auto [x, y, z] = coordinates(grid, added[k]);
+    const auto [x, y, z] = grid.coordinates(added[k]);
     const Vec3 c = grid.origin + grid.size * Vec3(x + 0.5, y + 0.5, z + 0.5);
     distance[k] = tree.squared_distance(Point(c.x(), c.y(), c.z()));
   }
@@ -98,7 +93,7 @@ std::size_t cover_thin_features(VoxelGrid& grid, const TriMesh& surface) {
       label[i] = id;
       stack.assign(1, static_cast<std::uint32_t>(i));
       while (!stack.empty()) {
-        const auto [x, y, z] = coordinates(grid, stack.back());
+        const auto [x, y, z] = grid.coordinates(stack.back());
         stack.pop_back();
         for (int dz = -1; dz <= 1; ++dz)
           for (int dy = -1; dy <= 1; ++dy)
@@ -124,7 +119,7 @@ std::size_t cover_thin_features(VoxelGrid& grid, const TriMesh& surface) {
     changed = false;
     for (const std::size_t k : order) {
       if (grown[k]) continue;
-      const auto [x, y, z] = coordinates(grid, added[k]);
+      const auto [x, y, z] = grid.coordinates(added[k]);
       const int count = voxel::occupied_components(voxel::neighbourhood(grid, x, y, z), pieces);
       if (count == 0) continue;  // a new component
       std::array<std::int32_t, 26> roots{};
@@ -149,14 +144,14 @@ std::size_t cover_thin_features(VoxelGrid& grid, const TriMesh& surface) {
     std::vector<std::uint8_t> outside(grid.occupied.size(), 0);
     std::vector<std::uint32_t> stack;
     for (std::size_t i = 0; i < grid.occupied.size(); ++i) {
-      const auto [x, y, z] = coordinates(grid, static_cast<std::uint32_t>(i));
+      const auto [x, y, z] = grid.coordinates(static_cast<std::uint32_t>(i));
       const bool border =
           x == 0 || y == 0 || z == 0 || x == grid.dims[0] - 1 || y == grid.dims[1] - 1 || z == grid.dims[2] - 1;
       if (!border || grid.occupied[i] || outside[i]) continue;
       outside[i] = 1;
       stack.assign(1, static_cast<std::uint32_t>(i));
       while (!stack.empty()) {
-        const auto [cx, cy, cz] = coordinates(grid, stack.back());
+        const auto [cx, cy, cz] = grid.coordinates(stack.back());
         stack.pop_back();
         for (int a = 0; a < 3; ++a)
           for (const int step : {-1, 1}) {
@@ -187,7 +182,7 @@ std::size_t cover_thin_features(VoxelGrid& grid, const TriMesh& surface) {
     for (auto k = order.rbegin(); k != order.rend(); ++k) {
       const std::uint32_t i = added[*k];
       if (!grid.occupied[i]) continue;
-      const auto [x, y, z] = coordinates(grid, i);
+      const auto [x, y, z] = grid.coordinates(i);
       if (!is_simple_voxel(grid, x, y, z)) continue;
       grid.occupied[i] = 0;
       --kept;

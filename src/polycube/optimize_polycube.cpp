@@ -299,7 +299,7 @@ class CoverageGuard {
     for (std::size_t p = 0; p < points.size(); ++p) point_[at[cell[p]]++] = static_cast<std::uint32_t>(p);
     count_.assign(points.size(), 0);
     for (std::size_t p = 0; p < points.size(); ++p) {
-      const auto [x, y, z] = coordinates(cell[p]);
+      const auto [x, y, z] = grid.coordinates(cell[p]);
       std::uint32_t n = 0;
       for_box(x, y, z, [&](std::size_t i) { n += grid.occupied[i] != 0; });
       count_[p] = n;
@@ -312,7 +312,7 @@ class CoverageGuard {
     scratch.touched.clear();
     bool allowed = true;
     for (const std::uint32_t voxel : removed) {
-      const auto [x, y, z] = coordinates(voxel);
+      const auto [x, y, z] = grid_.coordinates(voxel);
       for_box(x, y, z, [&](std::size_t cell) {
         for (std::uint32_t k = first_[cell]; k < first_[cell + 1]; ++k) {
           const std::uint32_t p = point_[k];
@@ -327,7 +327,7 @@ class CoverageGuard {
   /// Counts the voxels an operation emptied (-1) or filled (+1).
   void update(const std::vector<std::uint32_t>& voxels, int sign) {
     for (const std::uint32_t voxel : voxels) {
-      const auto [x, y, z] = coordinates(voxel);
+      const auto [x, y, z] = grid_.coordinates(voxel);
       for_box(x, y, z, [&](std::size_t cell) {
         for (std::uint32_t k = first_[cell]; k < first_[cell + 1]; ++k)
           count_[point_[k]] += static_cast<std::uint32_t>(sign);
@@ -336,10 +336,6 @@ class CoverageGuard {
   }
 
  private:
-  std::array<int, 3> coordinates(std::size_t i) const {
-    const auto nx = static_cast<std::size_t>(grid_.dims[0]), ny = static_cast<std::size_t>(grid_.dims[1]);
-    return {static_cast<int>(i % nx), static_cast<int>(i / nx % ny), static_cast<int>(i / (nx * ny))};
-  }
   template <class Visit>
   void for_box(int x, int y, int z, Visit&& visit) const {
     for (int dz = -kCoverageRadius; dz <= kCoverageRadius; ++dz)
@@ -382,7 +378,6 @@ class WindowEvaluator {
                           const PolycubeOptimizationOptions& options, const CoverageGuard* guard) {
     WindowDecision decision;
     decision.evaluated = true;
-    decision.opening_refused = false;
     if (!window_.load(packed, box)) return decision;
     const std::uint8_t known = memo_.find(window_, radius);
     std::uint8_t unchanged = known;
