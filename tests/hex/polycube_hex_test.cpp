@@ -138,6 +138,11 @@ TEST(PolycubeHexMesh, ThinPartsFoldTheMergedMapAndTheUnmergedPolycubeTakesOver) 
   EXPECT_GT(result.quality.scaled_jacobian_stats.min, 0.3);
   const FaceAdjacency<4> faces = build_faces(result.mesh);
   EXPECT_TRUE(faces.extra_cells.empty());
+  // Its legs and tail are in the mesh: the tail gets voxels (cover_far_points) and the
+  // optimisation, which cut off a foreleg, runs again guarded. Without them D_g was 0.22.
+  EXPECT_GT(result.polycube.far_point_voxels, 0U);
+  EXPECT_TRUE(result.polycube.optimization_guarded);
+  EXPECT_LT(result.geometric_deviation, 0.05);
 }
 
 TEST(PolycubeHexMesh, FertilityAt16kHexesHasNoPoorHex) {
