@@ -6,9 +6,10 @@
 // cover_thin_features() brings it back: the polycube, and the hex mesh, lack it, 0.2 of
 // the diagonal away. Where some vertex of Q has no occupied voxel within five voxels of its
 // own (by index), each vertex with none within one is "far", and the empty voxels that the
-// triangles at far vertices pass through are added, in passes from the voxels already there outwards, each where it
-// touches the set (a 26-neighbour) and its addition is simple (§4.4.2's test), so the topology stays as it was. Written
-// here because no library grows a voxel set under that constraint; the triangle-box test is CGAL's.
+// triangles at far vertices pass through are added, in passes from the voxels already there
+// outwards, each where it touches the set (a 26-neighbour) and its addition is simple
+// (§4.4.2's test), so the topology stays as it was. Written here because no library grows a
+// voxel set under that constraint; the triangle-box test is CGAL's.
 #include "structmesh/error.hpp"
 #include "structmesh/polycube.hpp"
 
