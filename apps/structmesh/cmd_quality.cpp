@@ -180,11 +180,12 @@ Action add_quality_command(CLI::App& command, const GlobalOptions& global) {
           hausdorff_distance(boundary_surface(reference), boundary_surface(mesh), settings->sampling);
       print_row(global, "Hausdorff distance d_H",
                 std::to_string(h.distance) + " (+" + std::to_string(h.tolerance) + " sampling bound, " +
-                    std::to_string(h.samples) + " samples)");
+                    std::to_string(h.samples) + " samples, " + std::to_string(h.queried_samples) + " looked up)");
       print_row(global, "D_g = d_H / diag(S)", std::to_string(h.relative));
       report["hausdorff_distance"] = h.distance;
       report["hausdorff_tolerance"] = h.tolerance;
       report["hausdorff_samples"] = h.samples;
+      report["hausdorff_samples_looked_up"] = h.queried_samples;
       report["geometric_deviation"] = h.relative;
     }
     if (!settings->image.empty()) {

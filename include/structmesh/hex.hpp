@@ -60,6 +60,10 @@ class SurfaceProjection {
   SurfaceProjection& operator=(SurfaceProjection&&) noexcept;
   /// Closest point, and (if given) the triangle it lies on and its barycentric coordinates.
   Vec3 closest_point(const Vec3& p, Index* triangle = nullptr, Vec3* barycentric = nullptr) const;
+  /// Closest point, its search bounded by `near`, which must be a point of the surface (one
+  /// this projection returned): the same point as closest_point(p), found faster when `near`
+  /// is close to it.
+  Vec3 closest_point_near(const Vec3& p, const Vec3& near) const;
   /// The point of the surface on the segment p +- reach * direction nearest to p, its
   /// triangle and barycentric coordinates; false when the segment misses the surface.
   /// With `facing`, only triangles whose normal (right-hand rule) has a positive dot
@@ -209,6 +213,13 @@ struct HexSmoothingResult {
   std::size_t released_boundary_points = 0;
 };
 
+/// A projection onto a surface, told a point of that surface near the answer: `near` is the
+/// last point it returned for the same mesh point (nullptr before the first). A closest-point
+/// search bounded by it visits a few triangles instead of the whole tree
+/// (SurfaceProjection::closest_point_near): most smoothing tries move a point by a fraction
+/// of an edge. A projection may ignore it.
+using HintedProjection = std::function<Vec3(const Vec3& point, const Vec3* near)>;
+
 /// Untangling and smoothing of a hex mesh in place. Inverted hexes are untangled first
 /// (each point moved to raise the smallest corner Jacobian of its hexes); then every point
 /// moves to improve the worst scaled Jacobian of the hexes around it, and a move is accepted
@@ -217,7 +228,7 @@ struct HexSmoothingResult {
 /// move_boundary is set, and stay where they are otherwise; boundary points of hexes still
 /// inverted after the untangling are then let off the surface for a second untangling (see
 /// HexSmoothingResult::released_boundary_points). `project` must be thread-safe.
-HexSmoothingResult smooth_hex_mesh(HexMesh& mesh, const std::function<Vec3(const Vec3&)>& project,
+HexSmoothingResult smooth_hex_mesh(HexMesh& mesh, const HintedProjection& project,
                                    const HexSmoothingOptions& options = {});
 
 // ---------------------------------------------------------------------------

@@ -163,6 +163,9 @@ struct HausdorffResult {
   double relative = 0;   // distance / bbox diagonal of reference (D_g, §5.3)
   double tolerance = 0;  // upper bound of the sampling error (see above)
   std::size_t samples = 0;
+  /// samples whose closest point was looked up; the others lie too near one that was, by
+  /// the distance's 1-Lipschitz bound, to raise the maximum
+  std::size_t queried_samples = 0;
 };
 HausdorffResult hausdorff_distance(const TriMesh& reference, const TriMesh& other, double sampling_ratio = 1e-3);
 

@@ -162,6 +162,13 @@ HexSmoothingOptions extraction_smoothing(const HexOptions& options) {
   return smoothing;
 }
 
+// The smoothing's projection onto the input, its search bounded by the point's last one.
+HintedProjection onto_input_near(const SurfaceProjection& onto_input) {
+  return [&onto_input](const Vec3& p, const Vec3* near) {
+    return near ? onto_input.closest_point_near(p, *near) : onto_input.closest_point(p);
+  };
+}
+
 // Smoothing sweeps of an extraction that may be made twice (below), before the two are
 // compared: the comparison needs the hexes untangled and the worst ones lifted a little,
 // and the full sweeps (100 at 0.25 s each on the bunny at 80k hexes) are for the mesh that
@@ -178,8 +185,7 @@ void finish_smoothing(const TriMesh& surface, const SurfaceProjection& onto_inpu
   const HexSmoothingOptions smoothing = extraction_smoothing(options);
   if (smoothing.iterations <= 0) return;
   const auto start = Clock::now();
-  result.smoothing = smooth_hex_mesh(
-      unsmoothed, [&](const Vec3& p) { return onto_input.closest_point(p); }, smoothing);
+  result.smoothing = smooth_hex_mesh(unsmoothed, onto_input_near(onto_input), smoothing);
   result.mesh = std::move(unsmoothed);
   result.quality = hex_quality(result.mesh);
   result.geometric_deviation = hausdorff_distance(surface, triangulated_boundary(result.mesh)).relative;
@@ -538,8 +544,7 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
       smoothing.iterations = std::min(smoothing.iterations, kSweepsBeforeComparison);
     }
     if (smoothing.iterations > 0)  // 0: the raw map, to inspect it
-      result.smoothing = smooth_hex_mesh(
-          grid, [&](const Vec3& p) { return onto_input.closest_point(p); }, smoothing);
+      result.smoothing = smooth_hex_mesh(grid, onto_input_near(onto_input), smoothing);
     timer.stop("smoothing" + suffix);
 
     result.mesh = std::move(grid);

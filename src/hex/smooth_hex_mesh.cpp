@@ -234,8 +234,7 @@ struct MoveScratch {
 
 class Smoother {
  public:
-  Smoother(HexMesh& mesh, const std::function<Vec3(const Vec3&)>& project, bool move_boundary,
-           double feature_angle_degrees)
+  Smoother(HexMesh& mesh, const HintedProjection& project, bool move_boundary, double feature_angle_degrees)
       : mesh_(mesh), project_(project) {
     const std::size_t n = mesh.points.size();
     point_hexes_ = build_vertex_elements(std::span<const std::array<Index, 8>>(mesh.hexes), n);
@@ -246,6 +245,8 @@ class Smoother {
     surface_neighbours_ = surface_neighbours(quads, n);
     boundary_.assign(n, 0);
     released_.assign(n, 0);
+    hint_.resize(n);
+    hinted_.assign(n, 0);
     double edge_sum = 0;
     for (const auto& q : quads)
       for (int i = 0; i < 4; ++i) {
@@ -409,7 +410,11 @@ class Smoother {
   // most one mean boundary edge (released points drifted away unbounded on the screwdriver).
   Vec3 put_back(Index v, const Vec3& x) const {
     if (!boundary_[v]) return x;
-    const Vec3 on_surface = project_(x);
+    // The last projection made for v is a point of the surface near this one. Only the
+    // thread that moves v reads and writes its slot (the sweeps' colouring).
+    const Vec3 on_surface = project_(x, hinted_[v] ? &hint_[v] : nullptr);
+    hint_[v] = on_surface;
+    hinted_[v] = 1;
     if (!released_[v]) return on_surface;
     const Vec3 offset = x - on_surface;
     const double distance = offset.norm();
@@ -957,7 +962,10 @@ class Smoother {
   }
 
   HexMesh& mesh_;
-  const std::function<Vec3(const Vec3&)>& project_;
+  const HintedProjection& project_;
+  // Per point: the last point put_back() projected it to, and whether there is one.
+  mutable std::vector<Vec3> hint_;
+  mutable std::vector<std::uint8_t> hinted_;
   CompressedRows point_hexes_, neighbours_, surface_neighbours_;
   std::vector<std::array<Index, 4>> quads_;  // the boundary quads
   CompressedRows point_quads_;               // point -> its boundary quads
@@ -1126,8 +1134,7 @@ ScoreStatistics restart_worst(Smoother& smoother, HexMesh& mesh, const HexSmooth
   return current;
 }
 
-HexSmoothingResult smooth_hex_mesh(HexMesh& mesh, const std::function<Vec3(const Vec3&)>& project,
-                                   const HexSmoothingOptions& options) {
+HexSmoothingResult smooth_hex_mesh(HexMesh& mesh, const HintedProjection& project, const HexSmoothingOptions& options) {
   for (std::size_t h = 0; h < mesh.hexes.size(); ++h) {
     std::array<Index, 8> sorted = mesh.hexes[h];
     std::sort(sorted.begin(), sorted.end());

@@ -65,6 +65,26 @@ TEST(SurfaceProjection, ParallelQueriesEqualSerialOnes) {
   EXPECT_EQ(serial_weights, parallel_weights);
 }
 
+TEST(SurfaceProjection, AHintNearTheAnswerGivesTheSamePointBitForBit) {
+  // A walk of small steps around a sphere of 1,280 triangles, each query hinted by the last
+  // answer (as the smoothing does): the same point as the unbounded search every time,
+  // including where the hint itself is the answer (a query straight above it).
+  const SurfaceProjection projection(test::sphere(1, 16, 32));
+  Vec3 hint = projection.closest_point(Vec3(1.2, 0, 0));
+  for (int i = 0; i < 3000; ++i) {
+    const double t = i * 0.013;
+    const Vec3 query =
+        (1 + 0.2 * std::sin(7 * t)) * Vec3(std::cos(t), std::sin(t) * std::cos(0.3 * t), std::sin(0.3 * t));
+    const Vec3 hinted = projection.closest_point_near(query, hint);
+    ASSERT_EQ(hinted, projection.closest_point(query)) << i;
+    hint = hinted;
+    ASSERT_EQ(projection.closest_point_near(hint * 1.1, hint), projection.closest_point(hint * 1.1)) << i;
+  }
+  // A far hint only bounds the search loosely: the answer is the same.
+  const Vec3 far = projection.closest_point(Vec3(-3, 0, 0));
+  EXPECT_EQ(projection.closest_point_near(Vec3(0.9, 0.1, 0), far), projection.closest_point(Vec3(0.9, 0.1, 0)));
+}
+
 TEST(SurfaceProjection, DegenerateTrianglesAreLeftOutAndIndicesStayTheSurfaces) {
   // The cube with a collinear triangle first (all later indices shift by one) and a
   // zero-area triangle with a repeated point at the end.

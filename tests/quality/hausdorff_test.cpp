@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <map>
+#include <utility>
 
 namespace structmesh {
 namespace {
@@ -73,6 +74,34 @@ TEST(Hausdorff, FindsAMaximumInsideATriangleWithinTheTolerance) {
     EXPECT_LE(h.distance, 1.0 + 1e-12) << ratio;
     EXPECT_GE(h.distance, 1.0 - h.tolerance) << ratio;
     EXPECT_NEAR(h.tolerance, std::sqrt(5.0) / 2 * ratio * std::sqrt(17.0), 1e-12);
+  }
+}
+
+// An n x n grid of the unit square (2 triangles per cell), its centre point lifted by `lift`.
+TriMesh tent(int n, double lift) {
+  TriMesh m;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i)
+      m.points.emplace_back(double(i) / n, double(j) / n, i == n / 2 && j == n / 2 ? lift : 0.0);
+  const auto at = [&](int i, int j) { return static_cast<Index>(j * (n + 1) + i); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      m.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      m.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  return m;
+}
+
+TEST(Hausdorff, SkipsOnlySamplesThatCannotRaiseTheMaximum) {
+  // A flat grid and the same grid with its centre lifted by 0.3: the apex, one sample
+  // among thousands near the plane, is the farthest point, 0.3 exactly. Most samples lie
+  // so near one whose distance was looked up that they are not looked up themselves.
+  const TriMesh flat = tent(20, 0.0), lifted = tent(20, 0.3);
+  for (const auto& [a, b] : {std::pair{&flat, &lifted}, std::pair{&lifted, &flat}}) {
+    const HausdorffResult h = hausdorff_distance(*a, *b, 5e-3);
+    EXPECT_NEAR(h.distance, 0.3, 1e-12);
+    EXPECT_GT(h.queried_samples, 0U);
+    EXPECT_LT(h.queried_samples, h.samples / 2);
   }
 }
 
