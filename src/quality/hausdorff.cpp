@@ -117,17 +117,19 @@ Directed directed_distance(const TriMesh& from, const Tree& tree, double spacing
   std::atomic<double> maximum{0.0};
   std::vector<std::uint8_t> used(from.points.size(), 0);
   for (const auto& t : from.triangles) used[t[0]] = used[t[1]] = used[t[2]] = 1;
+  // Per vertex: its distance and the triangle of `tree` its closest point lies on.
+  std::vector<double> vertex_distance(from.points.size(), 0);
+  std::vector<const Triangle*> vertex_triangle(from.points.size(), nullptr);
   const double vertices_queried = tbb::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, from.points.size(), 256), 0.0,
       [&](const tbb::blocked_range<std::size_t>& range, double queried) {
-        bool hinted = false;
-        Point hint;  // any point of the surface bounds the search; the last vertex's is near
         for (std::size_t v = range.begin(); v != range.end(); ++v) {
           if (!used[v]) continue;
-          const Point query = to_point(from.points[v]);
-          hint = hinted ? tree.closest_point(query, hint) : tree.closest_point(query);
-          hinted = true;
-          raise_to(maximum, (to_vec(hint) - from.points[v]).squaredNorm());
+          const auto [closest, triangle] = tree.closest_point_and_primitive(to_point(from.points[v]));
+          const double squared = (to_vec(closest) - from.points[v]).squaredNorm();
+          vertex_distance[v] = std::sqrt(squared);
+          vertex_triangle[v] = &*triangle;
+          raise_to(maximum, squared);
           queried += 1;
         }
         return queried;
@@ -144,6 +146,21 @@ Directed directed_distance(const TriMesh& from, const Tree& tree, double spacing
         for (std::size_t t = range.begin(); t != range.end(); ++t) {
           const auto& tri = from.triangles[t];
           const TriangleSampler sampler(from.points[tri[0]], from.points[tri[1]], from.points[tri[2]], spacing);
+          // Where the three corners' closest points lie on one triangle B of the other
+          // surface, a point q = sum l_i v_i is within sum l_i d_i <= max d_i of the point
+          // sum l_i b_i, which lies on B (B is convex): no sample of the triangle is farther
+          // than its farthest corner, which the maximum already holds. (A triangle of a
+          // surface lying on the other, as a box's hex boundary on the box: every sample at
+          // distance 0, where the bound above never passes a maximum of 0.)
+          if (vertex_triangle[tri[0]] == vertex_triangle[tri[1]] &&
+              vertex_triangle[tri[1]] == vertex_triangle[tri[2]]) {
+            const double corners =
+                std::max({vertex_distance[tri[0]], vertex_distance[tri[1]], vertex_distance[tri[2]]}) * (1 + 1e-9);
+            if (corners * corners <= maximum.load(std::memory_order_relaxed)) {
+              result.samples += sampler.count();
+              continue;
+            }
+          }
           sampler.visit([&](const Vec3& q) {
             result.samples += 1;
             if (anchored) {

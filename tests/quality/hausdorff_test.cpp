@@ -105,6 +105,22 @@ TEST(Hausdorff, SkipsOnlySamplesThatCannotRaiseTheMaximum) {
   }
 }
 
+TEST(Hausdorff, TrianglesLyingOnOneTriangleOfTheOtherAreNotSampled) {
+  // A fine grid lying on two big triangles: the grid's corners all find their closest point
+  // on one of the two, so each grid triangle off the diagonal is no farther than its corners
+  // (0) and none of its samples is looked up. The big triangles' samples all are (a maximum
+  // of 0 rules none out).
+  const TriMesh fine = tent(40, 0.0), coarse = rectangle(0, 1, 0, 1);
+  const HausdorffResult both = hausdorff_distance(coarse, fine, 2e-3);
+  EXPECT_LT(both.distance, 1e-12);
+  const HausdorffResult coarse_only = hausdorff_distance(coarse, coarse, 2e-3);
+  // Every sample of the big triangles; of the fine grid's, its corners and those of the
+  // triangles along the diagonal.
+  const std::size_t coarse_samples = coarse_only.samples / 2, fine_samples = both.samples - coarse_samples;
+  ASSERT_GE(both.queried_samples, coarse_samples);
+  EXPECT_LT(both.queried_samples - coarse_samples, fine_samples / 10) << fine_samples;
+}
+
 TEST(Hausdorff, RejectsUnusableInput) {
   const TriMesh square = rectangle(0, 1, 0, 1);
   EXPECT_THROW(hausdorff_distance(square, TriMesh{}), InputError);
