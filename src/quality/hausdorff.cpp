@@ -109,7 +109,7 @@ void raise_to(std::atomic<double>& maximum, double value) {
 // is near its end value before the rows of samples inside the triangles, most of which then
 // lie close enough to a looked-up one to be skipped (the closed dog's hex mesh against the
 // input, D_g 0.03: 43k of 672k samples looked up, 0.1 s instead of 1.4 s, the same D_g to
-// the last bit on the 13 hex benchmark models). The largest distance so far is
+// the last bit; the same D_g on all 13 hex benchmark models). The largest distance so far is
 // shared by the threads: a value from any of them is a sample's, so a skip it allows is as
 // exact. Why by hand: CGAL's AABB tree answers one closest point per call; the skipping
 // needs the maximum being built here.
