@@ -62,11 +62,17 @@ void cover_far_parts(PolycubeResult& result, const TriMesh& q, const PolycubeOpt
   VoxelGrid grown = result.voxels;
   const std::size_t added = cover_far_points(grown, q);
   if (added == 0) return;
-  PolycubeResult trial = result;
-  if (!settle_voxels(trial, std::move(grown)).empty()) return;
-  result.voxels = std::move(trial.voxels);
-  result.initial = trial.initial;
-  result.well_composed_flips += trial.well_composed_flips;
+  // settle_voxels() sets only these three; they are put back if the topology changed.
+  VoxelGrid kept = std::move(result.voxels);
+  const VoxelTopology kept_topology = result.initial;
+  const std::size_t kept_flips = result.well_composed_flips;
+  if (!settle_voxels(result, std::move(grown)).empty()) {
+    result.voxels = std::move(kept);
+    result.initial = kept_topology;
+    result.well_composed_flips = kept_flips;
+    return;
+  }
+  result.well_composed_flips += kept_flips;
   result.far_point_voxels = added;
   if (options.progress)
     status("polycube: " + std::to_string(added) + " voxels added where no voxel reached the surface");
