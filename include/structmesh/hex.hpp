@@ -128,6 +128,11 @@ struct SurfaceMapDefects {
   double area_excess = 0;
 };
 
+/// The triangles of `source` whose image (per point, on `target`) faces into the target, as
+/// relax_surface_map() counts them; nothing moves. InputError when the sizes do not match.
+std::size_t folded_triangles(const TriMesh& source, const std::vector<Vec3>& image, const TriMesh& target,
+                             const SurfaceProjection& onto_target);
+
 /// Measures `image` (per point of `source`, on `target`) for the defects above.
 SurfaceMapDefects surface_map_defects(const TriMesh& source, const std::vector<Vec3>& image, const TriMesh& target,
                                       const SurfaceProjection& onto_target);

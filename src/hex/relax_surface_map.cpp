@@ -375,6 +375,18 @@ SurfaceMapUnwinding unwind_surface_map(const TriMesh& source, std::vector<Vec3>&
   return result;
 }
 
+std::size_t folded_triangles(const TriMesh& source, const std::vector<Vec3>& image, const TriMesh& target,
+                             const SurfaceProjection& onto_target) {
+  if (source.points.size() != image.size())
+    throw InputError("folded_triangles: the source has " + std::to_string(source.points.size()) +
+                     " points, the image " + std::to_string(image.size()));
+  std::vector<Vec3> copy = image;  // Relaxation works on a mutable image; nothing moves here
+  const Relaxation r(source, copy, target, onto_target);
+  std::vector<std::uint8_t> folded(source.triangles.size());
+  tbb::parallel_for(std::size_t{0}, source.triangles.size(), [&](std::size_t t) { folded[t] = r.orientation(t) <= 0; });
+  return count_set(folded);
+}
+
 SurfaceMapDefects surface_map_defects(const TriMesh& source, const std::vector<Vec3>& image, const TriMesh& target,
                                       const SurfaceProjection& onto_target) {
   if (source.points.size() != image.size())

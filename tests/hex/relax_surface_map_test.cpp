@@ -59,6 +59,29 @@ TEST(RelaxSurfaceMap, ShuffledPointsOfAFaceUnfold) {
   EXPECT_LT(after.off_surface, 1e-9);
 }
 
+TEST(FoldedTriangles, CountsWhatTheRelaxationStartsFromAndMovesNothing) {
+  // The shuffled face above: folded_triangles() is the relaxation's own count before it
+  // moves anything (polycube_hex_mesh() reads it to skip a hopeless relaxation).
+  const TriMesh source = test::subdivided_box(1, 1, 1, 8);
+  const TriMesh cube = test::unit_cube();
+  const SurfaceProjection onto_cube(cube);
+  EXPECT_EQ(folded_triangles(source, source.points, cube, onto_cube), 0u);
+  std::vector<Vec3> image = source.points;
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> jitter(-0.15, 0.15);
+  for (Vec3& p : image)
+    if (p.z() == 1 && p.x() > 0 && p.x() < 1 && p.y() > 0 && p.y() < 1)
+      p.x() = std::clamp(p.x() + jitter(random), 0.01, 0.99), p.y() = std::clamp(p.y() + jitter(random), 0.01, 0.99);
+  const std::vector<Vec3> shuffled = image;
+  const std::size_t folded = folded_triangles(source, image, cube, onto_cube);
+  EXPECT_EQ(image, shuffled);
+  EXPECT_GE(folded, check(source, image).inward);
+  EXPECT_GT(folded, 10u);
+  EXPECT_EQ(relax_surface_map(source, image, cube, onto_cube).folded_before, folded);
+  image.pop_back();
+  EXPECT_THROW(folded_triangles(source, image, cube, onto_cube), InputError);
+}
+
 TEST(RelaxSurfaceMap, AFoldAcrossAnEdgeOfTheCubeUnfolds) {
   const TriMesh source = test::subdivided_box(1, 1, 1, 8);
   const TriMesh cube = test::unit_cube();
