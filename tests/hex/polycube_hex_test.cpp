@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -143,6 +144,17 @@ TEST(PolycubeHexMesh, ThinPartsFoldTheMergedMapAndTheUnmergedPolycubeTakesOver) 
   EXPECT_GT(result.polycube.far_point_voxels, 0U);
   EXPECT_TRUE(result.polycube.optimization_guarded);
   EXPECT_LT(result.geometric_deviation, 0.05);
+  // The report keeps the polycube's own stages, which the unmerged attempt reuses, and its
+  // "polycube (total)" counts them; the first attempt's rest is one entry of its own.
+  std::map<std::string, double> stages;
+  for (const auto& [name, seconds] : result.stage_seconds) {
+    EXPECT_FALSE(stages.contains(name)) << name << " listed twice";
+    stages[name] = seconds;
+  }
+  ASSERT_TRUE(stages.contains("optimisation"));
+  ASSERT_TRUE(stages.contains("first attempt (planes merged)"));
+  EXPECT_GE(stages["polycube (total)"] + 1e-9,
+            stages["pre-deformation"] + stages["voxelization"] + stages["optimisation"]);
 }
 
 TEST(PolycubeHexMesh, FertilityAt16kHexesHasNoPoorHex) {
