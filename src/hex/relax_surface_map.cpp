@@ -375,32 +375,40 @@ SurfaceMapUnwinding unwind_surface_map(const TriMesh& source, std::vector<Vec3>&
   return result;
 }
 
+namespace {
+
+// The measures below read a map without moving it: Relaxation works on a mutable image, so
+// they give it a copy.
+std::vector<Vec3> image_to_measure(const char* function, const TriMesh& source, const std::vector<Vec3>& image) {
+  if (source.points.size() != image.size())
+    throw InputError(std::string(function) + ": the source has " + std::to_string(source.points.size()) +
+                     " points, the image " + std::to_string(image.size()));
+  return image;
+}
+
+std::size_t count_folded(const Relaxation& r) {
+  std::vector<std::uint8_t> folded(r.source.triangles.size());
+  tbb::parallel_for(std::size_t{0}, folded.size(), [&](std::size_t t) { folded[t] = r.orientation(t) <= 0; });
+  return count_set(folded);
+}
+
+}  // namespace
+
 std::size_t folded_triangles(const TriMesh& source, const std::vector<Vec3>& image, const TriMesh& target,
                              const SurfaceProjection& onto_target) {
-  if (source.points.size() != image.size())
-    throw InputError("folded_triangles: the source has " + std::to_string(source.points.size()) +
-                     " points, the image " + std::to_string(image.size()));
-  std::vector<Vec3> copy = image;  // Relaxation works on a mutable image; nothing moves here
-  const Relaxation r(source, copy, target, onto_target);
-  std::vector<std::uint8_t> folded(source.triangles.size());
-  tbb::parallel_for(std::size_t{0}, source.triangles.size(), [&](std::size_t t) { folded[t] = r.orientation(t) <= 0; });
-  return count_set(folded);
+  std::vector<Vec3> copy = image_to_measure("folded_triangles", source, image);
+  return count_folded(Relaxation(source, copy, target, onto_target));
 }
 
 SurfaceMapDefects surface_map_defects(const TriMesh& source, const std::vector<Vec3>& image, const TriMesh& target,
                                       const SurfaceProjection& onto_target) {
-  if (source.points.size() != image.size())
-    throw InputError("surface_map_defects: the source has " + std::to_string(source.points.size()) +
-                     " points, the image " + std::to_string(image.size()));
-  std::vector<Vec3> copy = image;  // Relaxation works on a mutable image; nothing moves here
+  std::vector<Vec3> copy = image_to_measure("surface_map_defects", source, image);
   const Relaxation r(source, copy, target, onto_target);
   SurfaceMapDefects defects;
+  defects.folded = count_folded(r);
   double image_area = 0, target_area = 0;
-  for (std::size_t t = 0; t < source.triangles.size(); ++t) {
-    const auto& tri = source.triangles[t];
+  for (const auto& tri : source.triangles)
     image_area += 0.5 * (image[tri[1]] - image[tri[0]]).cross(image[tri[2]] - image[tri[0]]).norm();
-    if (r.orientation(t) <= 0) ++defects.folded;
-  }
   for (const auto& tri : target.triangles)
     target_area +=
         0.5 *

@@ -23,6 +23,16 @@ ImageCheck check(const TriMesh& source, const std::vector<Vec3>& image) {
   return test::check_cube_image(source, image);
 }
 
+// The points inside the top face of the unit cube thrown up to 1.2 grid steps (of an 8 x 8
+// subdivision) within it: their order no longer matches the source's and many triangles fold.
+void shuffle_top_face(std::vector<Vec3>& image) {
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> jitter(-0.15, 0.15);
+  for (Vec3& p : image)
+    if (p.z() == 1 && p.x() > 0 && p.x() < 1 && p.y() > 0 && p.y() < 1)
+      p.x() = std::clamp(p.x() + jitter(random), 0.01, 0.99), p.y() = std::clamp(p.y() + jitter(random), 0.01, 0.99);
+}
+
 TEST(RelaxSurfaceMap, AnUnfoldedMapStaysAsItIs) {
   const TriMesh source = test::subdivided_box(1, 1, 1, 6);
   const TriMesh cube = test::unit_cube();
@@ -39,14 +49,8 @@ TEST(RelaxSurfaceMap, ShuffledPointsOfAFaceUnfold) {
   const TriMesh source = test::subdivided_box(1, 1, 1, 8);
   const TriMesh cube = test::unit_cube();
   const SurfaceProjection onto_cube(cube);
-  // The points inside the top face are thrown up to 1.2 grid steps within it: their order
-  // no longer matches the source's and many triangles fold.
   std::vector<Vec3> image = source.points;
-  std::mt19937 random(7);
-  std::uniform_real_distribution<double> jitter(-0.15, 0.15);
-  for (Vec3& p : image)
-    if (p.z() == 1 && p.x() > 0 && p.x() < 1 && p.y() > 0 && p.y() < 1)
-      p.x() = std::clamp(p.x() + jitter(random), 0.01, 0.99), p.y() = std::clamp(p.y() + jitter(random), 0.01, 0.99);
+  shuffle_top_face(image);
   const ImageCheck before = check(source, image);
   ASSERT_GT(before.inward, 10u);
 
@@ -67,11 +71,7 @@ TEST(FoldedTriangles, CountsWhatTheRelaxationStartsFromAndMovesNothing) {
   const SurfaceProjection onto_cube(cube);
   EXPECT_EQ(folded_triangles(source, source.points, cube, onto_cube), 0u);
   std::vector<Vec3> image = source.points;
-  std::mt19937 random(7);
-  std::uniform_real_distribution<double> jitter(-0.15, 0.15);
-  for (Vec3& p : image)
-    if (p.z() == 1 && p.x() > 0 && p.x() < 1 && p.y() > 0 && p.y() < 1)
-      p.x() = std::clamp(p.x() + jitter(random), 0.01, 0.99), p.y() = std::clamp(p.y() + jitter(random), 0.01, 0.99);
+  shuffle_top_face(image);
   const std::vector<Vec3> shuffled = image;
   const std::size_t folded = folded_triangles(source, image, cube, onto_cube);
   EXPECT_EQ(image, shuffled);
