@@ -196,6 +196,13 @@ std::size_t count_set(const std::vector<std::uint8_t>& flags) {
 }
 
 // Per point: its image ring winds around it other than once.
+// Per source triangle: whether its image faces into the target (its orientation <= 0).
+std::vector<std::uint8_t> folded_flags(const Relaxation& r) {
+  std::vector<std::uint8_t> folded(r.source.triangles.size());
+  tbb::parallel_for(std::size_t{0}, folded.size(), [&](std::size_t t) { folded[t] = r.orientation(t) <= 0; });
+  return folded;
+}
+
 std::vector<std::uint8_t> branched_points(const Relaxation& r) {
   std::vector<std::uint8_t> flag(r.image.size(), 0);
   tbb::parallel_for(std::size_t{0}, r.image.size(),
@@ -245,9 +252,7 @@ SurfaceMapRelaxation relax_surface_map(const TriMesh& source, std::vector<Vec3>&
   std::vector<std::uint8_t> free(image.size(), 0), moved(image.size(), 0), stuck(image.size(), 0);
   // Per triangle: folded or not, recomputed only for the triangles of points that moved (the
   // orientation of a triangle across an edge of P costs a closest-point query).
-  std::vector<std::uint8_t> folded_flag(source.triangles.size());
-  tbb::parallel_for(std::size_t{0}, source.triangles.size(),
-                    [&](std::size_t t) { folded_flag[t] = r.orientation(t) <= 0; });
+  std::vector<std::uint8_t> folded_flag = folded_flags(r);
   auto count_folded = [&] { return count_set(folded_flag); };
   // Points of folded triangles and `rings` rings around them.
   auto mark_free = [&](int rings) {
@@ -386,18 +391,12 @@ std::vector<Vec3> image_to_measure(const char* function, const TriMesh& source, 
   return image;
 }
 
-std::size_t count_folded(const Relaxation& r) {
-  std::vector<std::uint8_t> folded(r.source.triangles.size());
-  tbb::parallel_for(std::size_t{0}, folded.size(), [&](std::size_t t) { folded[t] = r.orientation(t) <= 0; });
-  return count_set(folded);
-}
-
 }  // namespace
 
 std::size_t folded_triangles(const TriMesh& source, const std::vector<Vec3>& image, const TriMesh& target,
                              const SurfaceProjection& onto_target) {
   std::vector<Vec3> copy = image_to_measure("folded_triangles", source, image);
-  return count_folded(Relaxation(source, copy, target, onto_target));
+  return count_set(folded_flags(Relaxation(source, copy, target, onto_target)));
 }
 
 SurfaceMapDefects surface_map_defects(const TriMesh& source, const std::vector<Vec3>& image, const TriMesh& target,
@@ -405,7 +404,7 @@ SurfaceMapDefects surface_map_defects(const TriMesh& source, const std::vector<V
   std::vector<Vec3> copy = image_to_measure("surface_map_defects", source, image);
   const Relaxation r(source, copy, target, onto_target);
   SurfaceMapDefects defects;
-  defects.folded = count_folded(r);
+  defects.folded = count_set(folded_flags(r));
   double image_area = 0, target_area = 0;
   for (const auto& tri : source.triangles)
     image_area += 0.5 * (image[tri[1]] - image[tri[0]]).cross(image[tri[2]] - image[tri[0]]).norm();
