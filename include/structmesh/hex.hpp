@@ -60,10 +60,18 @@ class SurfaceProjection {
   SurfaceProjection& operator=(SurfaceProjection&&) noexcept;
   /// Closest point, and (if given) the triangle it lies on and its barycentric coordinates.
   Vec3 closest_point(const Vec3& p, Index* triangle = nullptr, Vec3* barycentric = nullptr) const;
-  /// Closest point, its search bounded by `near`, which must be a point of the surface (one
-  /// this projection returned): the same point as closest_point(p), found faster when `near`
-  /// is close to it.
-  Vec3 closest_point_near(const Vec3& p, const Vec3& near) const;
+  /// A nearest point found by walking the surface from `triangle` (a triangle of the
+  /// surface, updated to the one the answer lies on): on to the closest of the triangles that
+  /// share a point with the current one while it is strictly closer. The answer is a local
+  /// minimum of the distance to p over the surface, never farther from p than the starting
+  /// triangle's closest point. Started near the answer (from the triangle of the last answer
+  /// for a point moved by a little, as the smoothing does) it is the closest point, found in
+  /// a step or two instead of a tree search. Where the surface has another local minimum,
+  /// though, a walk may end there: a point inside a thin slab, nearer its bottom, walks to
+  /// the top if it starts on the top (the smoothing's point stays on its sheet, where the
+  /// global search jumps across). With `triangle` == kInvalidIndex (or a degenerate one, or
+  /// after 256 steps), closest_point(p, &triangle).
+  Vec3 closest_point_walking(const Vec3& p, Index& triangle) const;
   /// The point of the surface on the segment p +- reach * direction nearest to p, its
   /// triangle and barycentric coordinates; false when the segment misses the surface.
   /// With `facing`, only triangles whose normal (right-hand rule) has a positive dot
@@ -218,12 +226,12 @@ struct HexSmoothingResult {
   std::size_t released_boundary_points = 0;
 };
 
-/// A projection onto a surface, told a point of that surface near the answer: `near` is the
-/// last point it returned for the same mesh point (nullptr before the first). A closest-point
-/// search bounded by it visits a few triangles instead of the whole tree
-/// (SurfaceProjection::closest_point_near): most smoothing tries move a point by a fraction
-/// of an edge. A projection may ignore it.
-using HintedProjection = std::function<Vec3(const Vec3& point, const Vec3* near)>;
+/// A projection onto a surface, told where it answered last for the same mesh point:
+/// `*triangle` is the surface triangle of its last answer (kInvalidIndex before the first),
+/// and the projection sets it to the triangle of this answer. A walk from there
+/// (SurfaceProjection::closest_point_walking) visits a triangle or two instead of a tree:
+/// most smoothing tries move a point by a fraction of an edge. A projection may ignore it.
+using HintedProjection = std::function<Vec3(const Vec3& point, Index* triangle)>;
 
 /// Untangling and smoothing of a hex mesh in place. Inverted hexes are untangled first
 /// (each point moved to raise the smallest corner Jacobian of its hexes); then every point

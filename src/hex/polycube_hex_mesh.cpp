@@ -164,10 +164,10 @@ HexSmoothingOptions extraction_smoothing(const HexOptions& options) {
   return smoothing;
 }
 
-// The smoothing's projection onto the input, its search bounded by the point's last one.
+// The smoothing's projection onto the input: a walk from the triangle of the point's last one.
 HintedProjection onto_input_near(const SurfaceProjection& onto_input) {
-  return [&onto_input](const Vec3& p, const Vec3* near) {
-    return near ? onto_input.closest_point_near(p, *near) : onto_input.closest_point(p);
+  return [&onto_input](const Vec3& p, Index* triangle) {
+    return triangle ? onto_input.closest_point_walking(p, *triangle) : onto_input.closest_point(p);
   };
 }
 

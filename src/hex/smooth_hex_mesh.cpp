@@ -245,8 +245,7 @@ class Smoother {
     surface_neighbours_ = surface_neighbours(quads, n);
     boundary_.assign(n, 0);
     released_.assign(n, 0);
-    hint_.resize(n);
-    hinted_.assign(n, 0);
+    hint_triangle_.assign(n, kInvalidIndex);
     double edge_sum = 0;
     for (const auto& q : quads)
       for (int i = 0; i < 4; ++i) {
@@ -410,11 +409,9 @@ class Smoother {
   // most one mean boundary edge (released points drifted away unbounded on the screwdriver).
   Vec3 put_back(Index v, const Vec3& x) const {
     if (!boundary_[v]) return x;
-    // The last projection made for v is a point of the surface near this one. Only the
-    // thread that moves v reads and writes its slot (the sweeps' colouring).
-    const Vec3 on_surface = project_(x, hinted_[v] ? &hint_[v] : nullptr);
-    hint_[v] = on_surface;
-    hinted_[v] = 1;
+    // The triangle of the last projection made for v is near this one. Only the thread that
+    // moves v reads and writes its slot (the sweeps' colouring).
+    const Vec3 on_surface = project_(x, &hint_triangle_[v]);
     if (!released_[v]) return on_surface;
     const Vec3 offset = x - on_surface;
     const double distance = offset.norm();
@@ -963,9 +960,8 @@ class Smoother {
 
   HexMesh& mesh_;
   const HintedProjection& project_;
-  // Per point: the last point put_back() projected it to, and whether there is one.
-  mutable std::vector<Vec3> hint_;
-  mutable std::vector<std::uint8_t> hinted_;
+  // Per point: the surface triangle put_back() last projected it to (kInvalidIndex: none).
+  mutable std::vector<Index> hint_triangle_;
   CompressedRows point_hexes_, neighbours_, surface_neighbours_;
   std::vector<std::array<Index, 4>> quads_;  // the boundary quads
   CompressedRows point_quads_;               // point -> its boundary quads

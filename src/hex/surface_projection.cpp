@@ -73,6 +73,34 @@ Vec3 hit_barycentric(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c)
   return w / w.sum();
 }
 
+// The point of triangle abc closest to p (Ericson, Real-Time Collision Detection §5.1.5:
+// the Voronoi regions of the corners, then of the edges, then the face). By hand: CGAL's
+// projection computes the triangle's plane and orientation tests each time, and this one
+// runs for every candidate of every smoothing try (the closed dog: 18M calls).
+Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
+  const Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+  const double denominator = 1 / (va + vb + vc);
+  return a + ab * (vb * denominator) + ac * (vc * denominator);
+}
+
+// Steps a walk takes before it gives up for the tree's search (a walk crosses a triangle or
+// two per smoothing try; this many means a long way off the hint, where the tree is faster).
+constexpr int kMaxWalkSteps = 256;
+
 }  // namespace
 
 struct SurfaceProjection::Impl {
@@ -80,6 +108,12 @@ struct SurfaceProjection::Impl {
   std::vector<std::array<Vec3, 3>> corners;
   std::vector<Index> original;  // the surface's index of each kept triangle
   Tree tree;
+  // For the walk: per surface triangle, its points and its kept index (kInvalidIndex if it
+  // was left out); per surface point, the kept triangles around it.
+  std::vector<std::array<Index, 3>> surface_triangles;
+  std::vector<Index> kept_of;
+  std::vector<std::size_t> star_offsets;
+  std::vector<Index> star;  // kept indices
   Vec3 normal(std::size_t kept) const {
     const auto& c = corners[kept];
     return (c[1] - c[0]).cross(c[2] - c[0]);
@@ -109,6 +143,20 @@ SurfaceProjection::SurfaceProjection(const TriMesh& surface) : impl_(std::make_u
     impl_->triangles.push_back(triangle);
   }
   if (impl_->triangles.empty()) throw InputError("SurfaceProjection: every triangle of the surface is degenerate");
+  impl_->surface_triangles = surface.triangles;
+  impl_->kept_of.assign(surface.triangles.size(), kInvalidIndex);
+  impl_->star_offsets.assign(surface.points.size() + 1, 0);
+  for (std::size_t k = 0; k < impl_->original.size(); ++k) {
+    impl_->kept_of[impl_->original[k]] = static_cast<Index>(k);
+    for (const Index v : surface.triangles[impl_->original[k]]) ++impl_->star_offsets[v + 1];
+  }
+  for (std::size_t v = 0; v < surface.points.size(); ++v) impl_->star_offsets[v + 1] += impl_->star_offsets[v];
+  impl_->star.resize(impl_->star_offsets.back());
+  {
+    std::vector<std::size_t> fill(impl_->star_offsets.begin(), impl_->star_offsets.end() - 1);
+    for (std::size_t k = 0; k < impl_->original.size(); ++k)
+      for (const Index v : surface.triangles[impl_->original[k]]) impl_->star[fill[v]++] = static_cast<Index>(k);
+  }
   impl_->tree.insert(impl_->triangles.cbegin(), impl_->triangles.cend());
   impl_->tree.build();
   impl_->tree.accelerate_distance_queries();
@@ -130,15 +178,36 @@ Vec3 SurfaceProjection::closest_point(const Vec3& p, Index* triangle, Vec3* bary
   return closest;
 }
 
-Vec3 SurfaceProjection::closest_point_near(const Vec3& p, const Vec3& near) const {
-  // CGAL's search keeps the hint unless a triangle is strictly closer. Where the hint is at
-  // the least distance itself (a tie), its coordinates may differ in the last bits from what
-  // the search without it returns (the projection onto the first triangle the tree meets at
-  // that distance), and the smoothing that follows amplifies such bits into another mesh.
-  // So that answer is looked up again without the hint: the closed dog's smoothing, 18M
-  // projections, gave the unbounded search's point in every case but these (0.05%).
-  const Vec3 closest = to_vec(impl_->tree.closest_point(to_cgal(p), to_cgal(near)));
-  return closest == near ? closest_point(p) : closest;
+Vec3 SurfaceProjection::closest_point_walking(const Vec3& p, Index& triangle) const {
+  const Impl& impl = *impl_;
+  if (triangle >= impl.kept_of.size() || impl.kept_of[triangle] == kInvalidIndex) return closest_point(p, &triangle);
+  Index current = impl.kept_of[triangle];
+  const auto& start = impl.corners[current];
+  Vec3 best = closest_on_triangle(p, start[0], start[1], start[2]);
+  double best_distance = (best - p).squaredNorm();
+  for (int step = 0; step < kMaxWalkSteps; ++step) {
+    // On to the closest of the triangles that share a point with the current one, if it is
+    // strictly closer (so the walk cannot cycle). All of them, not only those across the
+    // edge or corner the current closest point lies on: on a polyhedral surface the face
+    // under p's perpendicular is a local minimum among its edge neighbours even where a
+    // triangle beyond them bends closer (a point a little inside a curved part).
+    Index next = kInvalidIndex;
+    for (const Index v : impl.surface_triangles[impl.original[current]])
+      for (std::size_t i = impl.star_offsets[v]; i < impl.star_offsets[v + 1]; ++i) {
+        const Index k = impl.star[i];
+        if (k == current) continue;
+        const auto& c = impl.corners[k];
+        const Vec3 candidate = closest_on_triangle(p, c[0], c[1], c[2]);
+        if (const double distance = (candidate - p).squaredNorm(); distance < best_distance)
+          next = k, best = candidate, best_distance = distance;
+      }
+    if (next == kInvalidIndex) {  // a local minimum
+      triangle = impl.original[current];
+      return best;
+    }
+    current = next;
+  }
+  return closest_point(p, &triangle);
 }
 
 bool SurfaceProjection::nearest_on_line(const Vec3& p, const Vec3& direction, double reach, Vec3& hit, Index& triangle,

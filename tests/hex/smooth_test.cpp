@@ -37,7 +37,7 @@ HexMesh perturbed_grid(int n, double amplitude, unsigned seed) {
   return mesh;
 }
 
-Vec3 identity(const Vec3& p, const Vec3*) { return p; }
+Vec3 identity(const Vec3& p, Index*) { return p; }
 
 TEST(SmoothHexMesh, UntanglesAPerturbedGridAndRaisesItsWorstHex) {
   HexMesh mesh = perturbed_grid(8, 0.45, 7);
@@ -151,7 +151,7 @@ TEST(SmoothHexMesh, BoundaryStaysOnASphere) {
   std::vector<std::uint8_t> is_outer;
   mesh = pillow(mesh, 0.2, nullptr, &is_outer);
   const double radius = std::sqrt(3.0);
-  const auto to_sphere = [radius](const Vec3& p, const Vec3*) { return Vec3(p * (radius / p.norm())); };
+  const auto to_sphere = [radius](const Vec3& p, Index*) { return Vec3(p * (radius / p.norm())); };
   for (std::size_t v = 0; v < mesh.points.size(); ++v)
     if (is_outer[v]) mesh.points[v] = to_sphere(mesh.points[v], nullptr);
   const HexMesh start = mesh;
@@ -179,7 +179,7 @@ TEST(SmoothHexMesh, MeanAscentRaisesTheMeanAndHoldsTheWorstHex) {
   std::vector<std::uint8_t> is_outer;
   mesh = pillow(mesh, 0.15, nullptr, &is_outer);
   const double radius = std::sqrt(3.0);
-  const auto to_sphere = [radius](const Vec3& p, const Vec3*) { return Vec3(p * (radius / p.norm())); };
+  const auto to_sphere = [radius](const Vec3& p, Index*) { return Vec3(p * (radius / p.norm())); };
   for (std::size_t v = 0; v < mesh.points.size(); ++v)
     if (is_outer[v]) mesh.points[v] = to_sphere(mesh.points[v], nullptr);
   HexMesh without = mesh, with = mesh;

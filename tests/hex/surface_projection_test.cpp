@@ -65,24 +65,67 @@ TEST(SurfaceProjection, ParallelQueriesEqualSerialOnes) {
   EXPECT_EQ(serial_weights, parallel_weights);
 }
 
-TEST(SurfaceProjection, AHintNearTheAnswerGivesTheSamePointBitForBit) {
-  // A walk of small steps around a sphere of 1,280 triangles, each query hinted by the last
-  // answer (as the smoothing does): the same point as the unbounded search every time,
-  // including where the hint itself is the answer (a query straight above it).
-  const SurfaceProjection projection(test::sphere(1, 16, 32));
-  Vec3 hint = projection.closest_point(Vec3(1.2, 0, 0));
+TEST(SurfaceProjection, AWalkFromTheLastAnswerFindsTheClosestPointOnAConvexSurface) {
+  // A walk of small steps around a sphere of 1,280 triangles, each query walking from the
+  // triangle of the last answer (as the smoothing does), inside and outside the sphere: the
+  // closest point of the whole surface every time, on a triangle that holds it.
+  const TriMesh sphere = test::sphere(1, 16, 32);
+  const SurfaceProjection projection(sphere);
+  Index triangle = kInvalidIndex;
+  Index steps_taken = 0;
   for (int i = 0; i < 3000; ++i) {
     const double t = i * 0.013;
     const Vec3 query =
         (1 + 0.2 * std::sin(7 * t)) * Vec3(std::cos(t), std::sin(t) * std::cos(0.3 * t), std::sin(0.3 * t));
-    const Vec3 hinted = projection.closest_point_near(query, hint);
-    ASSERT_EQ(hinted, projection.closest_point(query)) << i;
-    hint = hinted;
-    ASSERT_EQ(projection.closest_point_near(hint * 1.1, hint), projection.closest_point(hint * 1.1)) << i;
+    const Index from = triangle;
+    const Vec3 walked = projection.closest_point_walking(query, triangle);
+    ASSERT_NEAR((walked - projection.closest_point(query)).norm(), 0.0, 1e-12) << i;
+    ASSERT_LT(triangle, sphere.triangles.size());
+    const auto& c = sphere.triangles[triangle];
+    const Vec3 n = (sphere.points[c[1]] - sphere.points[c[0]]).cross(sphere.points[c[2]] - sphere.points[c[0]]);
+    EXPECT_NEAR(n.normalized().dot(walked - sphere.points[c[0]]), 0.0, 1e-12) << i;  // in its plane
+    steps_taken += from != triangle;
   }
-  // A far hint only bounds the search loosely: the answer is the same.
-  const Vec3 far = projection.closest_point(Vec3(-3, 0, 0));
-  EXPECT_EQ(projection.closest_point_near(Vec3(0.9, 0.1, 0), far), projection.closest_point(Vec3(0.9, 0.1, 0)));
+  EXPECT_GT(steps_taken, 100u);  // the walk did cross triangles
+  // From a triangle a quarter of the way round, and from the far side (where the face under
+  // p's perpendicular holds the nearest point of its edge neighbours, but not of all the
+  // triangles around it): the closest point too.
+  const Vec3 p(1.3, 0.2, -0.1);
+  Index quarter = kInvalidIndex, far = kInvalidIndex;
+  projection.closest_point(Vec3(0.3, 1.2, 0.4), &quarter);
+  EXPECT_NEAR((projection.closest_point_walking(p, quarter) - projection.closest_point(p)).norm(), 0.0, 1e-12);
+  projection.closest_point(-p, &far);
+  EXPECT_NEAR((projection.closest_point_walking(p, far) - projection.closest_point(p)).norm(), 0.0, 1e-12);
+}
+
+TEST(SurfaceProjection, AWalkStaysOnItsSheetOfAThinSlab) {
+  // A point inside a slab 0.1 thick, nearer its bottom: the global search answers on the
+  // bottom, the walk from a top triangle on the top (the sheet the smoothed point came from),
+  // never farther than that triangle's own closest point.
+  const TriMesh slab = test::subdivided_box(1, 1, 0.1, 4);
+  const SurfaceProjection projection(slab);
+  Index top = kInvalidIndex;
+  projection.closest_point(Vec3(0.3, 0.2, 0.2), &top);
+  const Vec3 p(0.5, 0.5, 0.04);
+  EXPECT_NEAR((projection.closest_point(p) - Vec3(0.5, 0.5, 0)).norm(), 0.0, 1e-12);
+  Index triangle = top;
+  EXPECT_NEAR((projection.closest_point_walking(p, triangle) - Vec3(0.5, 0.5, 0.1)).norm(), 0.0, 1e-12);
+  EXPECT_NE(triangle, top);  // it walked across the top to the triangle under p
+  // Beyond the top's edge x = 1 and below the top: on to the side x = 1.
+  triangle = top;
+  EXPECT_NEAR((projection.closest_point_walking(Vec3(1.2, 0.5, 0.07), triangle) - Vec3(1, 0.5, 0.07)).norm(), 0.0,
+              1e-12);
+}
+
+TEST(SurfaceProjection, AWalkWithoutAStartIsTheGlobalSearch) {
+  const SurfaceProjection projection(test::unit_cube());
+  Index triangle = kInvalidIndex, global = kInvalidIndex;
+  const Vec3 expected = projection.closest_point(Vec3(0.75, 0.25, 5), &global);
+  EXPECT_EQ(projection.closest_point_walking(Vec3(0.75, 0.25, 5), triangle), expected);
+  EXPECT_EQ(triangle, global);
+  triangle = 12345;  // no such triangle
+  EXPECT_EQ(projection.closest_point_walking(Vec3(0.75, 0.25, 5), triangle), expected);
+  EXPECT_EQ(triangle, global);
 }
 
 TEST(SurfaceProjection, DegenerateTrianglesAreLeftOutAndIndicesStayTheSurfaces) {
