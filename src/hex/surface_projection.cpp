@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <iterator>
 #include <limits>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -108,12 +109,11 @@ struct SurfaceProjection::Impl {
   std::vector<std::array<Vec3, 3>> corners;
   std::vector<Index> original;  // the surface's index of each kept triangle
   Tree tree;
-  // For the walk: per surface triangle, its points and its kept index (kInvalidIndex if it
-  // was left out); per surface point, the kept triangles around it.
-  std::vector<std::array<Index, 3>> surface_triangles;
+  // For the walk: the points of each kept triangle; per surface triangle, its kept index
+  // (kInvalidIndex if it was left out); per surface point, the kept triangles around it.
+  std::vector<std::array<Index, 3>> kept_points;
   std::vector<Index> kept_of;
-  std::vector<std::size_t> star_offsets;
-  std::vector<Index> star;  // kept indices
+  CompressedRows star;
   Vec3 normal(std::size_t kept) const {
     const auto& c = corners[kept];
     return (c[1] - c[0]).cross(c[2] - c[0]);
@@ -143,20 +143,12 @@ SurfaceProjection::SurfaceProjection(const TriMesh& surface) : impl_(std::make_u
     impl_->triangles.push_back(triangle);
   }
   if (impl_->triangles.empty()) throw InputError("SurfaceProjection: every triangle of the surface is degenerate");
-  impl_->surface_triangles = surface.triangles;
   impl_->kept_of.assign(surface.triangles.size(), kInvalidIndex);
-  impl_->star_offsets.assign(surface.points.size() + 1, 0);
   for (std::size_t k = 0; k < impl_->original.size(); ++k) {
     impl_->kept_of[impl_->original[k]] = static_cast<Index>(k);
-    for (const Index v : surface.triangles[impl_->original[k]]) ++impl_->star_offsets[v + 1];
+    impl_->kept_points.push_back(surface.triangles[impl_->original[k]]);
   }
-  for (std::size_t v = 0; v < surface.points.size(); ++v) impl_->star_offsets[v + 1] += impl_->star_offsets[v];
-  impl_->star.resize(impl_->star_offsets.back());
-  {
-    std::vector<std::size_t> fill(impl_->star_offsets.begin(), impl_->star_offsets.end() - 1);
-    for (std::size_t k = 0; k < impl_->original.size(); ++k)
-      for (const Index v : surface.triangles[impl_->original[k]]) impl_->star[fill[v]++] = static_cast<Index>(k);
-  }
+  impl_->star = build_vertex_elements(std::span<const std::array<Index, 3>>(impl_->kept_points), surface.points.size());
   impl_->tree.insert(impl_->triangles.cbegin(), impl_->triangles.cend());
   impl_->tree.build();
   impl_->tree.accelerate_distance_queries();
@@ -192,9 +184,8 @@ Vec3 SurfaceProjection::closest_point_walking(const Vec3& p, Index& triangle) co
     // under p's perpendicular is a local minimum among its edge neighbours even where a
     // triangle beyond them bends closer (a point a little inside a curved part).
     Index next = kInvalidIndex;
-    for (const Index v : impl.surface_triangles[impl.original[current]])
-      for (std::size_t i = impl.star_offsets[v]; i < impl.star_offsets[v + 1]; ++i) {
-        const Index k = impl.star[i];
+    for (const Index v : impl.kept_points[current])
+      for (const Index k : impl.star.row(v)) {
         if (k == current) continue;
         const auto& c = impl.corners[k];
         const Vec3 candidate = closest_on_triangle(p, c[0], c[1], c[2]);
