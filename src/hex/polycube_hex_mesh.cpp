@@ -165,7 +165,7 @@ HexSmoothingOptions extraction_smoothing(const HexOptions& options) {
 }
 
 // The smoothing's projection onto the input: a walk from the triangle of the point's last one.
-HintedProjection onto_input_near(const SurfaceProjection& onto_input) {
+HintedProjection walking_onto_input(const SurfaceProjection& onto_input) {
   return [&onto_input](const Vec3& p, Index* triangle) {
     return triangle ? onto_input.closest_point_walking(p, *triangle) : onto_input.closest_point(p);
   };
@@ -187,7 +187,7 @@ void finish_smoothing(const TriMesh& surface, const SurfaceProjection& onto_inpu
   const HexSmoothingOptions smoothing = extraction_smoothing(options);
   if (smoothing.iterations <= 0) return;
   const auto start = Clock::now();
-  result.smoothing = smooth_hex_mesh(unsmoothed, onto_input_near(onto_input), smoothing);
+  result.smoothing = smooth_hex_mesh(unsmoothed, walking_onto_input(onto_input), smoothing);
   result.mesh = std::move(unsmoothed);
   result.quality = hex_quality(result.mesh);
   result.geometric_deviation = hausdorff_distance(surface, triangulated_boundary(result.mesh)).relative;
@@ -567,7 +567,7 @@ HexResult polycube_hex_mesh_once(const TriMesh& surface, const HexOptions& optio
       smoothing.iterations = std::min(smoothing.iterations, kSweepsBeforeComparison);
     }
     if (smoothing.iterations > 0)  // 0: the raw map, to inspect it
-      result.smoothing = smooth_hex_mesh(grid, onto_input_near(onto_input), smoothing);
+      result.smoothing = smooth_hex_mesh(grid, walking_onto_input(onto_input), smoothing);
     timer.stop("smoothing" + suffix);
 
     result.mesh = std::move(grid);

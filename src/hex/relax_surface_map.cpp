@@ -195,7 +195,6 @@ std::size_t count_set(const std::vector<std::uint8_t>& flags) {
   return static_cast<std::size_t>(std::count(flags.begin(), flags.end(), 1));
 }
 
-// Per point: its image ring winds around it other than once.
 // Per source triangle: whether its image faces into the target (its orientation <= 0).
 std::vector<std::uint8_t> folded_flags(const Relaxation& r) {
   std::vector<std::uint8_t> folded(r.source.triangles.size());
@@ -203,6 +202,7 @@ std::vector<std::uint8_t> folded_flags(const Relaxation& r) {
   return folded;
 }
 
+// Per point: its image ring winds around it other than once.
 std::vector<std::uint8_t> branched_points(const Relaxation& r) {
   std::vector<std::uint8_t> flag(r.image.size(), 0);
   tbb::parallel_for(std::size_t{0}, r.image.size(),
