@@ -303,6 +303,7 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
                    {"largest_star_cavity_rings", result.flipped_repair.largest_ring},
                    {"flipped_after_star_cavities", result.flipped_repair.flipped_after},
                    {"joint_untangling_rounds", result.map_untangling.rounds},
+                   {"joint_untangling_rounds_given_up", result.map_untangling.rounds_given_up},
                    {"joint_untangling_rings", result.map_untangling.rings},
                    {"joint_untangling_region_tets", result.map_untangling.region_tets},
                    {"joint_untangling_moved_boundary_points", result.map_untangling.moved_boundary_points},

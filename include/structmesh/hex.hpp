@@ -321,6 +321,11 @@ struct TetMapUntanglingOptions {
   /// region's tets (the bunny's freed round was valid after 2 of its 30 steps, 0.5 of 6.3 s;
   /// with 5 such steps fertility's mean hex fell 0.941 -> 0.939, with 10 it stays 0.940).
   int max_steps_once_valid = 10;
+  /// A round stops after this many steps if none has left fewer tets flipped than the round
+  /// started with: such a round is not kept, and the rounds that gain do so early (on the
+  /// data set within 7 steps), while kitten_40k's first map spent all 2 x 30 steps, 12 s,
+  /// on two rounds that never got below their 46 flipped tets.
+  int give_up_after_steps = 12;
   /// A tet counts as flipped when its det J, normalised to average 1 over the mesh, is at
   /// most this: a tet flattened to 1e-16 of its share passes a sign test but is no map (the
   /// bunny's made D_v read 7e9).
@@ -336,6 +341,7 @@ struct TetMapUntangling {
   double boundary_drift = 0;                          ///< largest distance of one from its target, in mean image edges
   double min_det_after = 0;                           ///< smallest det J of the last kept round
   int steps = 0;                                      ///< continuation steps of the last kept round
+  int rounds_given_up = 0;  ///< rounds stopped by give_up_after_steps (no step left fewer flipped)
 };
 
 /// The tets of `source` whose image at `parameter` is inverted or flat: det J, normalised to

@@ -246,7 +246,13 @@ TetMapUntangling untangle_tet_map(const TetMesh& source, std::vector<Vec3>& para
     // flipped tets is kept here too, and wins while some stay flipped.
     std::size_t fewest = 0;
     energy.min_det(x, &fewest);
+    const std::size_t start_count = fewest;
     Eigen::VectorXd fewest_x = x;
+    bool given_up = false;
+    loop.give_up = [&](int steps) {
+      given_up = steps >= options.give_up_after_steps && fewest >= start_count;
+      return given_up;
+    };
     const detail::FoldoverFreeResult minimised = detail::minimize_foldover_free(
         x, energy.eps, [&](const Eigen::VectorXd& v, Eigen::VectorXd& g) { return energy(v, g); },
         [&](const Eigen::VectorXd& v) {
@@ -259,6 +265,7 @@ TetMapUntangling untangle_tet_map(const TetMesh& source, std::vector<Vec3>& para
     if (!(minimised.min_det_after > 0)) x = fewest_x;
     energy.write(x, trial);
     ++result.rounds;
+    if (given_up) ++result.rounds_given_up;
     result.rings = rings;
     result.region_tets = energy.tet_count();
     const std::size_t left = count_flipped(source, trial, options.flat);

@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <functional>
 #include <limits>
 
 namespace structmesh::detail {
@@ -64,6 +65,9 @@ struct FoldoverFreeSettings {
   /// Continuation steps after the first one that ends with every determinant positive (the
   /// steps after it only improve the elements' shapes).
   int max_steps_once_valid = std::numeric_limits<int>::max();
+  /// Asked after each step with the number of steps done; true ends the loop (the caller's
+  /// judgement that it is getting nowhere).
+  std::function<bool(int steps)> give_up;
 };
 
 struct FoldoverFreeResult {
@@ -111,6 +115,7 @@ FoldoverFreeResult minimize_foldover_free(Eigen::VectorXd& x, double& eps, Energ
     eps = detmin < mu ? 2 * std::sqrt(mu * (mu - detmin)) : 1e-10;
     if (detmin > 0 && std::abs(before - after) <= 1e-4 * std::abs(after)) break;
     if (detmin > 0 && ++valid_steps > settings.max_steps_once_valid) break;
+    if (settings.give_up && settings.give_up(outer + 1)) break;
   }
   x = best;
   result.min_det_after = best_detmin;

@@ -108,6 +108,30 @@ TEST(UntangleTetMap, SurfaceFoldFreesTheSurfaceNearItAndLeavesTheRestAlone) {
   EXPECT_LT(untangled.free_points, parameter.size() / 2);
 }
 
+TEST(UntangleTetMap, ARoundThatLeavesNoFewerFlippedGivesUpAfterTheGivenSteps) {
+  // The surface fold above: with the surface pinned no step can leave fewer tets flipped, so
+  // the pinned round gives up after the given number of steps and the freed round still
+  // untangles the map; never giving up, the pinned round runs all its steps to no gain.
+  const auto run = [](int give_up_after) {
+    const TriMesh box = test::subdivided_box(2, 2, 1, 6);
+    const TetMesh tets = solid(box);
+    const std::size_t boundary_count = box.points.size();
+    std::vector<Vec3> parameter = tets.points;
+    parameter[nearest_point(box.points, 0, boundary_count, Vec3(1, 1, 1))] = Vec3(1, 1, -0.5);
+    const std::vector<Vec3> targets(parameter.begin(), parameter.begin() + static_cast<std::ptrdiff_t>(boundary_count));
+    TetMapUntanglingOptions options;
+    options.rings = {3};
+    options.give_up_after_steps = give_up_after;
+    const TetMapUntangling untangled = untangle_tet_map(tets, parameter, boundary_count, targets, options);
+    EXPECT_EQ(untangled.rounds, 2);
+    EXPECT_EQ(untangled.flipped_after, 0u);
+    EXPECT_EQ(flipped(tets, parameter), 0u);
+    return untangled.rounds_given_up;
+  };
+  EXPECT_EQ(run(3), 1);
+  EXPECT_EQ(run(1000), 0);
+}
+
 TEST(UntangleTetMap, AFlatTetCountsAsFlippedAndIsMended) {
   // An interior point moved to a billionth of its height above the opposite face of one of its
   // tets: that tet keeps a positive volume, which a sign test passes, but it is flat.
