@@ -193,7 +193,7 @@ Action add_hex_command(CLI::App& command, const GlobalOptions& global) {
     options.padding = !settings->no_padding;
     options.untangle_map_jointly = !settings->no_map_untangling;
     if (settings->wide_map_untangling) {
-      options.map_untangling.rings = {3, 6, 12};
+      options.map_untangling = TetMapUntanglingOptions{};  // 3, 6 and 12 rings, never giving up
       options.untangle_map_onto_q = true;
     }
     options.polycube.align = !settings->no_align;

@@ -75,7 +75,7 @@ void print_row(const std::string& label, const TriMesh& surface, std::size_t tar
   options.target_hexes = target;
   if (untangle_map) {
     options.smooth_surface_map = true;
-    options.map_untangling.rings = {3, 6, 12};
+    options.map_untangling = TetMapUntanglingOptions{};  // 3, 6 and 12 rings, never giving up
     options.untangle_map_onto_q = true;
   }
   const auto start = std::chrono::steady_clock::now();

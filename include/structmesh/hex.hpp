@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <span>
 #include <string>
@@ -322,10 +323,9 @@ struct TetMapUntanglingOptions {
   /// with 5 such steps fertility's mean hex fell 0.941 -> 0.939, with 10 it stays 0.940).
   int max_steps_once_valid = 10;
   /// A round stops after this many steps if none has left fewer tets flipped than the round
-  /// started with: such a round is not kept, and the rounds that gain do so early (on the
-  /// data set within 7 steps), while kitten_40k's first map spent all 2 x 30 steps, 12 s,
-  /// on two rounds that never got below their 46 flipped tets.
-  int give_up_after_steps = 12;
+  /// started with (such a round is not kept). Never, by default; polycube_hex_mesh()'s default
+  /// map untangling gives up after 12 (HexOptions::map_untangling).
+  int give_up_after_steps = std::numeric_limits<int>::max();
   /// A tet counts as flipped when its det J, normalised to average 1 over the mesh, is at
   /// most this: a tet flattened to 1e-16 of its share passes a sign test but is no map (the
   /// bunny's made D_v read 7e9).
@@ -382,7 +382,13 @@ struct HexOptions {
   /// and the screwdriver's maps in 1-10 s. --untangle-map widens it to 3, 6 and 12 rings, which
   /// costs up to minutes where 3 rings do not do (kitten_40k: 100 s, still flipped).
   bool untangle_map_jointly = true;
-  TetMapUntanglingOptions map_untangling{.rings = {3}};
+  /// A round gives up after 12 steps that leave no fewer tets flipped than it started with:
+  /// the rounds that gain on the data set do so within 7 steps, while kitten_40k's first map
+  /// spent 2 x 30 steps, 12 s, on two rounds that never got below their 46 flipped tets.
+  /// --untangle-map runs TetMapUntanglingOptions' defaults instead (3, 6 and 12 rings, never
+  /// giving up: over 12 rings the closed dog's 180 flipped tets go only after more than 12
+  /// steps without a gain).
+  TetMapUntanglingOptions map_untangling{.rings = {3}, .give_up_after_steps = 12};
   /// The joint untangling also on a map onto Q (the unmerged polycube's): off by default, as
   /// there it frees nothing over 3 rings (the dogs' 234 and 123 flipped tets, 40 s each);
   /// --untangle-map turns it on (over 12 rings dog0's 234 go to 124, in 4 minutes).
