@@ -75,18 +75,32 @@ TEST(UntangleTetMap, ARoundStopsTheGivenNumberOfStepsAfterItsFirstValidOne) {
   EXPECT_EQ(run(1), first_valid + 1);
 }
 
-TEST(UntangleTetMap, SurfaceFoldFreesTheSurfaceNearItAndLeavesTheRestAlone) {
-  // A point of the top face pushed through the solid and out below its bottom: the target
-  // surface crosses itself, no placement of the interior points is valid, and no star cavity
-  // mends it (RepairFlippedTets.LeavesWhatNoStarCanMendAndTheMeshValid).
-  const TriMesh box = test::subdivided_box(2, 2, 1, 6);
-  const TetMesh tets = solid(box);
-  const std::size_t boundary_count = box.points.size();
+// A box's tet mesh mapped to itself but for a point of its top face, pushed through the solid
+// and out below its bottom: the target surface crosses itself, no placement of the interior
+// points is valid, and no star cavity mends it
+// (RepairFlippedTets.LeavesWhatNoStarCanMendAndTheMeshValid). The surface's targets are the
+// pushed positions.
+struct SurfaceFold {
+  TriMesh box = test::subdivided_box(2, 2, 1, 6);
+  TetMesh tets = solid(box);
+  std::size_t boundary_count = box.points.size();
+  std::size_t top = nearest_point(box.points, 0, boundary_count, Vec3(1, 1, 1));
   std::vector<Vec3> parameter = tets.points;
-  const std::size_t top = nearest_point(box.points, 0, boundary_count, Vec3(1, 1, 1));
+  std::vector<Vec3> targets;
+  SurfaceFold() {
+    parameter[top] = Vec3(1, 1, -0.5);
+    targets.assign(parameter.begin(), parameter.begin() + static_cast<std::ptrdiff_t>(boundary_count));
+  }
+};
+
+TEST(UntangleTetMap, SurfaceFoldFreesTheSurfaceNearItAndLeavesTheRestAlone) {
+  SurfaceFold fold;
+  const TriMesh& box = fold.box;
+  const TetMesh& tets = fold.tets;
+  const std::size_t boundary_count = fold.boundary_count, top = fold.top;
+  std::vector<Vec3>& parameter = fold.parameter;
+  const std::vector<Vec3>& targets = fold.targets;
   ASSERT_LT((box.points[top] - Vec3(1, 1, 1)).norm(), 1e-9);
-  parameter[top] = Vec3(1, 1, -0.5);
-  std::vector<Vec3> targets(parameter.begin(), parameter.begin() + static_cast<std::ptrdiff_t>(boundary_count));
   const std::size_t before = flipped(tets, parameter);
   ASSERT_GT(before, 0u);
   const std::vector<Vec3> start = parameter;
@@ -109,23 +123,19 @@ TEST(UntangleTetMap, SurfaceFoldFreesTheSurfaceNearItAndLeavesTheRestAlone) {
 }
 
 TEST(UntangleTetMap, ARoundThatLeavesNoFewerFlippedGivesUpAfterTheGivenSteps) {
-  // The surface fold above: with the surface pinned no step can leave fewer tets flipped, so
+  // The surface fold: with the surface pinned no step can leave fewer tets flipped, so
   // the pinned round gives up after the given number of steps and the freed round still
   // untangles the map; never giving up, the pinned round runs all its steps to no gain.
   const auto run = [](int give_up_after) {
-    const TriMesh box = test::subdivided_box(2, 2, 1, 6);
-    const TetMesh tets = solid(box);
-    const std::size_t boundary_count = box.points.size();
-    std::vector<Vec3> parameter = tets.points;
-    parameter[nearest_point(box.points, 0, boundary_count, Vec3(1, 1, 1))] = Vec3(1, 1, -0.5);
-    const std::vector<Vec3> targets(parameter.begin(), parameter.begin() + static_cast<std::ptrdiff_t>(boundary_count));
+    SurfaceFold fold;
     TetMapUntanglingOptions options;
     options.rings = {3};
     options.give_up_after_steps = give_up_after;
-    const TetMapUntangling untangled = untangle_tet_map(tets, parameter, boundary_count, targets, options);
+    const TetMapUntangling untangled =
+        untangle_tet_map(fold.tets, fold.parameter, fold.boundary_count, fold.targets, options);
     EXPECT_EQ(untangled.rounds, 2);
     EXPECT_EQ(untangled.flipped_after, 0u);
-    EXPECT_EQ(flipped(tets, parameter), 0u);
+    EXPECT_EQ(flipped(fold.tets, fold.parameter), 0u);
     return untangled.rounds_given_up;
   };
   EXPECT_EQ(run(3), 1);
