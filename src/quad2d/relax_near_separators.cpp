@@ -20,6 +20,7 @@
 #include <oneapi/tbb/parallel_reduce.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numeric>
 #include <utility>
@@ -42,36 +43,39 @@ RelaxStats relax_piece(RelaxPiece& piece, const RelaxOptions& options, const Rel
   if (piece.fixed.size() != n || piece.separator.size() != n || piece.owned.size() != n || piece.global.size() != n)
     throw InputError("relax_near_separators: fixed/separator/owned/global must have one entry per point");
   if (piece.own_quads > piece.quads.size()) throw InputError("relax_near_separators: own_quads exceeds the quads");
-  const CompressedRows vertex_quads = build_vertex_elements(piece.quads, n);
-
-  const auto for_each_edge_neighbour = [&](Index v, bool own_only, auto&& visit) {
-    for (const Index q : vertex_quads.row(v)) {
-      if (own_only && q >= piece.own_quads) continue;
-      const auto& quad = piece.quads[q];
-      for (int k = 0; k < 4; ++k)
-        if (quad[k] == v) {
-          visit(quad[(k + 1) % 4]);
-          visit(quad[(k + 3) % 4]);
-        }
-    }
-  };
-
-  // The zone: breadth-first rings from the separator points over this piece's own
-  // quads. The shortest edge path from a vertex to a separator stays inside the
-  // vertex's part (a part is bounded by separators and the region boundary), so the
-  // rings are the same as on the whole mesh.
+  // The zone: rings from the separator points over this piece's own quads, one sweep
+  // over the quads per ring (a ring is the set of edge neighbours of the ring before
+  // not yet reached). The shortest edge path from a vertex to a separator stays inside
+  // the vertex's part (a part is bounded by separators and the region boundary), so the
+  // rings are the same as on the whole mesh. No vertex-to-quad table of the whole
+  // mesh: at 20M quads building one took 1.3 s, most of the relaxation's setup.
   std::vector<std::int32_t> ring(n, -1);
-  std::vector<Index> frontier, next;
-  for (Index v = 0; v < n; ++v)
-    if (piece.separator[v]) ring[v] = 0, frontier.push_back(v);
-  for (int r = 1; r <= options.rings && !frontier.empty(); ++r) {
-    next.clear();
-    for (const Index v : frontier)
-      for_each_edge_neighbour(v, true, [&](Index w) {
-        if (ring[w] < 0) ring[w] = r, next.push_back(w);
-      });
-    std::sort(next.begin(), next.end());
-    frontier.swap(next);
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t v) {
+    if (piece.separator[v]) ring[v] = 0;
+  });
+  for (int r = 1; r <= options.rings; ++r) {
+    // Concurrent writers store the same value r, and no reader of ring r - 1 can
+    // mistake it: atomic_ref only keeps that race defined.
+    const bool grew = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, piece.own_quads), false,
+        [&](const tbb::blocked_range<std::size_t>& range, bool any) {
+          for (std::size_t q = range.begin(); q != range.end(); ++q) {
+            const auto& quad = piece.quads[q];
+            for (int k = 0; k < 4; ++k) {
+              if (std::atomic_ref<std::int32_t>(ring[quad[k]]).load(std::memory_order_relaxed) != r - 1) continue;
+              for (const Index w : {quad[(k + 1) % 4], quad[(k + 3) % 4]}) {
+                std::atomic_ref<std::int32_t> ring_w(ring[w]);
+                if (ring_w.load(std::memory_order_relaxed) < 0) {
+                  ring_w.store(r, std::memory_order_relaxed);
+                  any = true;
+                }
+              }
+            }
+          }
+          return any;
+        },
+        [](bool a, bool b) { return a || b; });
+    if (!grew) break;
   }
   // Moving vertices: in the zone and not on the region boundary; their owners
   // decide, the other copies learn it.
@@ -85,13 +89,55 @@ RelaxStats relax_piece(RelaxPiece& piece, const RelaxOptions& options, const Rel
   RelaxStats stats;
   stats.moved_vertices = comm.sum(zone.size());
 
+  // The quads that can change: those with a moving vertex (flagged in parallel, then
+  // listed in order).
+  std::vector<Index> zone_quads;
+  {
+    std::vector<std::uint8_t> touched(piece.quads.size(), 0);
+    tbb::parallel_for(std::size_t{0}, piece.quads.size(), [&](std::size_t q) {
+      const auto& quad = piece.quads[q];
+      touched[q] = moving[quad[0]] | moving[quad[1]] | moving[quad[2]] | moving[quad[3]];
+    });
+    for (Index q = 0; q < piece.quads.size(); ++q)
+      if (touched[q]) zone_quads.push_back(q);
+  }
+  std::vector<Index> moving_vertices;  // every copy that may move, owned or not
+  for (Index v = 0; v < n; ++v)
+    if (moving[v]) moving_vertices.push_back(v);
+  const auto slot_of = [&](Index v) {
+    return static_cast<Index>(std::lower_bound(moving_vertices.begin(), moving_vertices.end(), v) -
+                              moving_vertices.begin());
+  };
+  // Every quad of a moving vertex is a zone quad: the zone quads around each moving
+  // vertex (indices into zone_quads, ascending).
+  CompressedRows zone_quads_of;
+  {
+    zone_quads_of.offsets.assign(moving_vertices.size() + 1, 0);
+    for (const Index q : zone_quads)
+      for (const Index v : piece.quads[q])
+        if (moving[v]) ++zone_quads_of.offsets[slot_of(v) + 1];
+    std::inclusive_scan(zone_quads_of.offsets.begin(), zone_quads_of.offsets.end(), zone_quads_of.offsets.begin());
+    zone_quads_of.items.resize(zone_quads_of.offsets.back());
+    std::vector<Index> fill(zone_quads_of.offsets.begin(), zone_quads_of.offsets.end() - 1);
+    for (std::size_t i = 0; i < zone_quads.size(); ++i)
+      for (const Index v : piece.quads[zone_quads[i]])
+        if (moving[v]) zone_quads_of.items[fill[slot_of(v)]++] = static_cast<Index>(i);
+  }
+
   // Neighbours of the zone vertices, each once, in ascending global order: counted,
   // then filled, each row in parallel (the same rows as one serial pass).
   CompressedRows neighbours;
   {
     const auto sorted_row = [&](Index v, std::vector<Index>& row) {
       row.clear();
-      for_each_edge_neighbour(v, false, [&](Index w) { row.push_back(w); });
+      for (const Index i : zone_quads_of.row(slot_of(v))) {
+        const auto& quad = piece.quads[zone_quads[i]];
+        for (int k = 0; k < 4; ++k)
+          if (quad[k] == v) {
+            row.push_back(quad[(k + 1) % 4]);
+            row.push_back(quad[(k + 3) % 4]);
+          }
+      }
       std::sort(row.begin(), row.end(), [&](Index a, Index b) { return piece.global[a] < piece.global[b]; });
       row.erase(std::unique(row.begin(), row.end()), row.end());
     };
@@ -117,24 +163,6 @@ RelaxStats relax_piece(RelaxPiece& piece, const RelaxOptions& options, const Rel
                         }
                       });
   }
-  // The quads that can change: those with a moving vertex (flagged in parallel, then
-  // listed in order).
-  std::vector<Index> zone_quads;
-  {
-    std::vector<std::uint8_t> touched(piece.quads.size(), 0);
-    tbb::parallel_for(std::size_t{0}, piece.quads.size(), [&](std::size_t q) {
-      const auto& quad = piece.quads[q];
-      touched[q] = moving[quad[0]] | moving[quad[1]] | moving[quad[2]] | moving[quad[3]];
-    });
-    for (Index q = 0; q < piece.quads.size(); ++q)
-      if (touched[q]) zone_quads.push_back(q);
-  }
-
-  std::vector<Index> zone_slot(piece.quads.size(), kInvalidIndex);  // quad -> index in zone_quads
-  for (std::size_t i = 0; i < zone_quads.size(); ++i) zone_slot[zone_quads[i]] = static_cast<Index>(i);
-  std::vector<Index> moving_vertices;  // every copy that may move, owned or not
-  for (Index v = 0; v < n; ++v)
-    if (moving[v]) moving_vertices.push_back(v);
   std::vector<std::uint8_t> before_and;
   static const Vec3 up(0, 0, 1);
   const auto jacobian = [&](const std::array<Index, 4>& quad, auto&& position) {
@@ -142,12 +170,15 @@ RelaxStats relax_piece(RelaxPiece& piece, const RelaxOptions& options, const Rel
     for (int k = 0; k < 4; ++k) corners[k] = position(quad[k]);
     return quad_scaled_jacobian(corners, &up);
   };
-  // Only moving vertices ever get a proposal or move: the others keep proposal =
-  // position and accepted = 0 for good (resetting all n points in every sweep was a
-  // serial pass over the whole mesh, a fifth of the relaxation on the Key at 2M quads).
-  std::vector<Vec3> proposal(piece.points.begin(), piece.points.end());
+  // Only moving vertices ever get a proposal or move: the others keep accepted = 0 for
+  // good (resetting all n points in every sweep was a serial pass over the whole mesh,
+  // a fifth of the relaxation on the Key at 2M quads), and their proposals are never
+  // read, so on one process they are never written either (a copy of all points was
+  // 1.3 s at 20M quads, page faults mostly). The exchange sends every shared point's
+  // proposal, so there they start as the points.
+  std::vector<Vec3> proposal = comm.exchanges ? piece.points : std::vector<Vec3>(n);
   std::vector<std::uint8_t> accepted(moving);
-  std::vector<double> quality_before(zone_quads.size());
+  std::vector<double> quality_before(zone_quads.size()), quality_after(zone_quads.size());
   std::size_t refused = 0;
   const double tolerance = 1e-9 * piece.size;
   for (int iteration = 0; iteration < options.iterations && stats.moved_vertices > 0; ++iteration) {
@@ -163,9 +194,15 @@ RelaxStats relax_piece(RelaxPiece& piece, const RelaxOptions& options, const Rel
       proposal[zone[i]] = sum / static_cast<double>(row.size());
     });
     comm.sync_points(proposal);
-    tbb::parallel_for(std::size_t{0}, zone_quads.size(), [&](std::size_t i) {
-      quality_before[i] = jacobian(piece.quads[zone_quads[i]], [&](Index v) { return piece.points[v]; });
-    });
+    // A zone quad's quality now is the value its last refusal check computed in the
+    // iteration before (nothing it reads changed after that check), so only the first
+    // iteration computes it (this halved the scaled Jacobians the relaxation evaluates).
+    if (iteration == 0)
+      tbb::parallel_for(std::size_t{0}, zone_quads.size(), [&](std::size_t i) {
+        quality_before[i] = jacobian(piece.quads[zone_quads[i]], [&](Index v) { return piece.points[v]; });
+      });
+    else
+      quality_before.swap(quality_after);
     const auto proposed = [&](Index v) { return accepted[v] ? proposal[v] : piece.points[v]; };
     // Refusal rounds: each round reads the previous round's acceptances only. The
     // first round checks every zone quad, later ones only the quads around the
@@ -178,6 +215,7 @@ RelaxStats relax_piece(RelaxPiece& piece, const RelaxOptions& options, const Rel
       bad.assign(check.size(), 0);
       tbb::parallel_for(std::size_t{0}, check.size(), [&](std::size_t i) {
         const double after = jacobian(piece.quads[zone_quads[check[i]]], proposed);
+        quality_after[check[i]] = after;
         bad[i] = !(after > 0 && after >= std::min(quality_before[check[i]], kQualityFloor));
       });
       refuse.clear();
@@ -197,8 +235,7 @@ RelaxStats relax_piece(RelaxPiece& piece, const RelaxOptions& options, const Rel
       }
       check.clear();
       for (const Index v : changed)
-        for (const Index q : vertex_quads.row(v))
-          if (zone_slot[q] != kInvalidIndex) check.push_back(zone_slot[q]);
+        for (const Index i : zone_quads_of.row(slot_of(v))) check.push_back(i);
       std::sort(check.begin(), check.end());
       check.erase(std::unique(check.begin(), check.end()), check.end());
     }
