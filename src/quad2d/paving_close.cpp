@@ -26,6 +26,10 @@ namespace structmesh::paving {
 
 namespace {
 
+/// The fallback's quads avoid corners at three input points flatter than asin of this
+/// short of a straight angle (177 degrees) when its matching can.
+constexpr double kFixedCornerSine = 0.05;
+
 struct Tiling {
   std::vector<std::array<int, 4>> quads;  // refs: < n boundary node, else n + extra index
   std::vector<Vec2> extra;
@@ -491,14 +495,22 @@ void Paver::close_region(const Polygon2& region, const std::vector<Index>& point
   // smoothing cannot repair (the corner and both its neighbours input points).
   std::vector<std::array<Index, 4>> quads;  // in triangulation numbering
   auto fixed = [&](Index v) { return v < boundary_count && point_of[v] < mesh_.fixed_count; };
-  auto repairable = [&](const std::vector<Vec2>& P, const std::array<Index, 4>& q) {
+  // A corner at three input points keeps its angle whatever smoothing does: it must be
+  // convex, and (min_sine > 0) not within asin(min_sine) of a straight angle. At 0 a
+  // corner on a straight run of three samples passed by rounding: the Gulf's worst quads
+  // at 20M quads (scaled Jacobian 1e-13) were such fallback quads of four boundary
+  // samples. A sharp corner there is the loop's own (a tip no quad can do better at).
+  const auto corner_ok = [](const Vec2& a, const Vec2& b, double min_sine) {
+    return cross(a, b) > (a.dot(b) < 0 ? min_sine * a.norm() * b.norm() : 0.0);
+  };
+  auto repairable = [&](const std::vector<Vec2>& P, const std::array<Index, 4>& q, double min_sine) {
     for (int j = 0; j < 4; ++j) {
       const Index u = q[(j + 3) % 4], v = q[j], w = q[(j + 1) % 4];
-      if (fixed(u) && fixed(v) && fixed(w) && !(cross(P[w] - P[v], P[u] - P[v]) > 0)) return false;
+      if (fixed(u) && fixed(v) && fixed(w) && !corner_ok(P[w] - P[v], P[u] - P[v], min_sine)) return false;
     }
     return true;
   };
-  auto pair_up = [&](RegionTriangulation& tri) {
+  auto pair_up = [&](RegionTriangulation& tri, double min_sine) {
     const std::size_t t = tri.triangles.size();
     std::map<std::pair<Index, Index>, Index> edge_owner;
     boost::adjacency_list<boost::vecS, boost::vecS, boost::undirectedS> graph(t);
@@ -520,7 +532,7 @@ void Paver::close_region(const Polygon2& region, const std::vector<Index>& point
         std::array<Index, 4> q{};
         for (int k = 0; k < 3; ++k)
           if (t1[k] != a && t1[k] != b) q = {t1[k], t1[(k + 1) % 3], third(t2), t1[(k + 2) % 3]};
-        if (!repairable(tri.points, q)) continue;
+        if (!repairable(tri.points, q, min_sine)) continue;
         boost::add_edge(it->second, f, graph);
       }
     }
@@ -560,15 +572,15 @@ void Paver::close_region(const Polygon2& region, const std::vector<Index>& point
         quads[around[p][0]] = merged;
         quads.erase(quads.begin() + static_cast<std::ptrdiff_t>(around[p][1]));
         again = true;
-        if (repairable(tri.points, merged)) continue;
-        // A dart of input points (a reflex corner nothing can move): a ring of four
-        // quads around an inner quad instead, the inner points halfway to the middle
-        // of its inner diagonal (from the reflex corner).
+        if (repairable(tri.points, merged, min_sine)) continue;
+        // A dart of input points (a reflex corner nothing can move), or a corner of them
+        // too flat: a ring of four quads around an inner quad instead, the inner points
+        // halfway to the middle of its inner diagonal (from that corner).
         int reflex = 0;
         for (int j = 0; j < 4; ++j) {
           const Vec2 &u = tri.points[merged[(j + 3) % 4]], &v = tri.points[merged[j]],
                      &w = tri.points[merged[(j + 1) % 4]];
-          if (!(cross(w - v, u - v) > 0)) reflex = j;
+          if (!corner_ok(w - v, u - v, min_sine)) reflex = j;
         }
         const Vec2 mid = 0.5 * (tri.points[merged[reflex]] + tri.points[merged[(reflex + 2) % 4]]);
         const auto first = static_cast<Index>(tri.points.size());
@@ -581,7 +593,7 @@ void Paver::close_region(const Polygon2& region, const std::vector<Index>& point
     const auto& P = tri.points;
     for (const auto& q : quads) {
       if (!(quad_area(P[q[0]], P[q[1]], P[q[2]], P[q[3]]) > 0)) return false;
-      if (!repairable(P, q)) return false;
+      if (!repairable(P, q, min_sine)) return false;
     }
     return true;
   };
@@ -589,50 +601,55 @@ void Paver::close_region(const Polygon2& region, const std::vector<Index>& point
   std::vector<std::array<Index, 4>> best;
   std::vector<Vec2> best_points;
   bool done = false;
-  for (const double factor : {1.0, 0.75, 0.55, 0.4, 0.3, 1.5, 0.0}) {
-    RegionTriangulation tri;
-    try {
-      // A loop may touch a hole's loop (or itself) at a point: one vertex there.
-      tri = triangulate_region(region, {.steiner_spacing = factor * size_, .merge_repeated_points = true});
-    } catch (const Error& e) {
-      throw Error(where + " could not be closed: its fallback triangulation failed (" + e.what() + ")");
-    }
-    if (tri.boundary_edges.size() != region.points.size()) continue;
-    if (tri.triangles.size() % 2 != 0) continue;
-    if (!pair_up(tri)) {
-      // No perfect matching (narrow regions where no grid point fits: the dual is a
-      // tree with branches of odd size), or quads no smoothing repairs: every triangle
-      // is split into three at its centroid. Then a perfect matching always exists:
-      // the dual is connected with an even number t of nodes, so it has a subgraph in
-      // which every node has odd degree (a T-join, T = all nodes); a triangle of
-      // degree 1 or 3 there matches that many of its thirds across its edges and
-      // pairs the others inside it (a doublet at the centroid, removed). Every quad
-      // then has a centroid to smooth.
-      std::vector<std::array<Index, 3>> thirds;
-      thirds.reserve(3 * tri.triangles.size());
-      for (const auto& f : tri.triangles) {
-        const auto g = static_cast<Index>(tri.points.size());
-        tri.points.push_back((tri.points[f[0]] + tri.points[f[1]] + tri.points[f[2]]) / 3.0);
-        for (int j = 0; j < 3; ++j) thirds.push_back({f[j], f[(j + 1) % 3], g});
+  // Corners at input points of at least kFixedCornerSine with any of the
+  // triangulations, else any convex ones.
+  for (const double min_sine : {kFixedCornerSine, 0.0}) {
+    if (done) break;
+    for (const double factor : {1.0, 0.75, 0.55, 0.4, 0.3, 1.5, 0.0}) {
+      RegionTriangulation tri;
+      try {
+        // A loop may touch a hole's loop (or itself) at a point: one vertex there.
+        tri = triangulate_region(region, {.steiner_spacing = factor * size_, .merge_repeated_points = true});
+      } catch (const Error& e) {
+        throw Error(where + " could not be closed: its fallback triangulation failed (" + e.what() + ")");
       }
-      tri.triangles = std::move(thirds);
-      if (!pair_up(tri)) continue;
+      if (tri.boundary_edges.size() != region.points.size()) continue;
+      if (tri.triangles.size() % 2 != 0) continue;
+      if (!pair_up(tri, min_sine)) {
+        // No perfect matching (narrow regions where no grid point fits: the dual is a
+        // tree with branches of odd size), or quads no smoothing repairs: every triangle
+        // is split into three at its centroid. Then a perfect matching always exists:
+        // the dual is connected with an even number t of nodes, so it has a subgraph in
+        // which every node has odd degree (a T-join, T = all nodes); a triangle of
+        // degree 1 or 3 there matches that many of its thirds across its edges and
+        // pairs the others inside it (a doublet at the centroid, removed). Every quad
+        // then has a centroid to smooth.
+        std::vector<std::array<Index, 3>> thirds;
+        thirds.reserve(3 * tri.triangles.size());
+        for (const auto& f : tri.triangles) {
+          const auto g = static_cast<Index>(tri.points.size());
+          tri.points.push_back((tri.points[f[0]] + tri.points[f[1]] + tri.points[f[2]]) / 3.0);
+          for (int j = 0; j < 3; ++j) thirds.push_back({f[j], f[(j + 1) % 3], g});
+        }
+        tri.triangles = std::move(thirds);
+        if (!pair_up(tri, min_sine)) continue;
+      }
+      // A free loop point must not end as a doublet (counted per mesh point: a point
+      // the region passes twice is one triangulation vertex).
+      std::map<Index, int> added;
+      for (Index i = 0; i < boundary_count; ++i) added.emplace(point_of[i], 0);
+      for (const auto& q : quads)
+        for (const Index v : q)
+          if (v < boundary_count) ++added[point_of[v]];
+      bool doublet = false;
+      for (const auto& [point, count] : added) doublet |= makes_doublet(point, count);
+      if (!done || !doublet) {
+        best = quads;
+        best_points = tri.points;
+        done = true;
+      }
+      if (!doublet) break;  // else keep looking; the doublets are collapsed at the end
     }
-    // A free loop point must not end as a doublet (counted per mesh point: a point
-    // the region passes twice is one triangulation vertex).
-    std::map<Index, int> added;
-    for (Index i = 0; i < boundary_count; ++i) added.emplace(point_of[i], 0);
-    for (const auto& q : quads)
-      for (const Index v : q)
-        if (v < boundary_count) ++added[point_of[v]];
-    bool doublet = false;
-    for (const auto& [point, count] : added) doublet |= makes_doublet(point, count);
-    if (!done || !doublet) {
-      best = quads;
-      best_points = tri.points;
-      done = true;
-    }
-    if (!doublet) break;  // else keep looking; the doublets are collapsed at the end
   }
   if (!done) throw Error(where + " could not be closed: no perfect matching of its triangulation");
   quads = std::move(best);

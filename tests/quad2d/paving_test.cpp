@@ -294,6 +294,37 @@ TEST(Paving, StarWithTwelveSpikes) {
   EXPECT_GT(m.avg, 0.88);
 }
 
+// A thin inlet of the coast as the Gulf of Mexico's boundary had them at 20M quads: a
+// tip of 2 degrees whose return side runs on through a sample on its straight line. No
+// quad at the tip can do better than sin 2° = 0.035; the fallback closed these with a
+// quad of four boundary samples around a 180-degree corner (scaled Jacobian 1e-15)
+// until its matching avoided corners that flat at input points.
+TEST(Paving, ThinInletWithAStraightReturnSide) {
+  const double s = std::sin(std::numbers::pi / 180), c = std::cos(std::numbers::pi / 180);
+  for (const auto& [length, shift] : {std::pair{0.8, 0.0}, std::pair{1.2, 0.5}, std::pair{2.6, 0.3}}) {
+    const Vec2 tip(6 + shift, 8 + 2 * length);
+    const Vec2 a = tip + length * Vec2(s, -c), m = tip + length * Vec2(-s, -c), end = tip + 2 * length * Vec2(-s, -c);
+    std::vector<Vec2> ring;
+    for (int i = 0; i < 12; ++i) ring.emplace_back(i, 0);
+    for (int j = 0; j < 9; ++j) ring.emplace_back(12, j);
+    ring.emplace_back(12, a.y());
+    for (int i = 11; i >= 7; --i) ring.emplace_back(i, a.y());
+    ring.push_back(a);
+    ring.push_back(tip);
+    ring.push_back(m);
+    ring.push_back(end);
+    for (int i = 5; i >= 0; --i) ring.emplace_back(i, end.y());
+    for (int j = 7; j > 0; --j) ring.emplace_back(0, j);
+    if (ring.size() % 2 != 0) ring.pop_back();  // (0, 1): the left side keeps its other samples
+    const Polygon2 poly = ring_polygon(ring);
+    const PavedPart part = pave(poly);
+    const Measured measured = check_paved(poly, part);
+    report("thin inlet", measured, part);
+    EXPECT_GT(part.stats.fallback_loops, 0u) << "the case no longer reaches the fallback";
+    EXPECT_GT(measured.min, 0.01) << "inlet of length " << length;
+  }
+}
+
 TEST(Paving, NoisyCoastlineWithIsland) {
   const Polygon2 poly = ring_polygon(wobbly(600, 100, 7, 0.25, 0.01), {wobbly(80, 14, 9, 0.15, 0.01, {30, 20}, true)});
   const Measured m = pave_and_check("coastline + island", poly, {.size = 2 * std::numbers::pi * 100 / 600});
