@@ -147,19 +147,26 @@ class Cleaner {
     region_.clear();
     for (Index p = 0; p < P_.size(); ++p)
       if (modified_at_[p] > since) visited_[p] = visit_stamp_, region_.push_back(p);
-    std::size_t begin = 0;
-    for (int ring = 0; ring < kPotentialRings; ++ring) {
+    const std::size_t outer = grow_region(0, kDirtyRings);
+    for (const Index v : region_) dirty[v] = 1;
+    grow_region(outer, kPotentialRings - kDirtyRings);
+    potential_points_.assign(region_.begin(), region_.end());
+    std::sort(potential_points_.begin(), potential_points_.end());
+  }
+
+  /// Adds `rings` rings of points (those sharing a quad) around region_, whose points
+  /// from `from` on are the outermost ring so far; every point in it carries
+  /// visit_stamp_. Returns where the last ring added starts.
+  std::size_t grow_region(std::size_t from, int rings) {
+    for (int ring = 0; ring < rings; ++ring) {
       const std::size_t end = region_.size();
-      if (ring == kDirtyRings)
-        for (std::size_t i = 0; i < end; ++i) dirty[region_[i]] = 1;
-      for (std::size_t i = begin; i < end; ++i)
+      for (std::size_t i = from; i < end; ++i)
         for (const Index id : quads_of(region_[i]))
           for (const Index v : Q_[id])
             if (visited_[v] != visit_stamp_) visited_[v] = visit_stamp_, region_.push_back(v);
-      begin = end;
+      from = end;
     }
-    potential_points_.assign(region_.begin(), region_.end());
-    std::sort(potential_points_.begin(), potential_points_.end());
+    return from;
   }
 
   // ---- connectivity
@@ -679,12 +686,7 @@ class Cleaner {
         visit(c.a), visit(c.b);
         break;
     }
-    for (int ring = 0; ring < 3; ++ring) {
-      const std::size_t end = region_.size();
-      for (std::size_t i = 0; i < end; ++i)
-        for (const Index id : quads_of(region_[i]))
-          for (const Index v : Q_[id]) visit(v);
-    }
+    grow_region(0, 3);
     for (const Index v : region_)
       if (modified_at_[v] > since) return false;
     return true;
