@@ -16,6 +16,10 @@
 // A point where a sample reaches its floor scores +infinity, so a line search never accepts
 // it. Without the barrier a single hex close to its floor cut every step short (the line
 // search is global): fertility gained 0.001 instead of 0.009.
+//
+// Free points with a normal (boundary points) also pay normal_stiffness (d . n)^2 for their
+// offset d from where they started (in units of the mean edge) along it: they slide along
+// the surface and leave it only a little; the caller puts them back on it.
 #include "hex/untangle_hexes.hpp"
 #include "mesh/lbfgs_parameters.hpp"
 
@@ -49,8 +53,10 @@ class MeanEnergy {
   // The unknowns are the free points in units of `size` (the mean edge length), so that
   // L-BFGS's first step, of unit length, is about an edge.
   MeanEnergy(const std::vector<Vec3>& points, std::span<const std::array<Index, 8>> hexes, std::span<const Index> free,
-             std::span<const double> floor, double size)
+             std::span<const double> floor, double size, std::span<const Vec3> normal, double normal_stiffness)
       : points_(points),
+        normal_(normal),
+        normal_stiffness_(normal_stiffness),
         hexes_(hexes),
         free_(free),
         floor_(floor),
@@ -70,6 +76,7 @@ class MeanEnergy {
     for (std::size_t h = 0; h < hexes.size(); ++h)
       for (std::size_t i = 0; i < 8; ++i)
         if (const Index k = slot_[hexes[h][i]]; k != kInvalidIndex) uses_[next[k]++] = 8 * h + i;
+    if (!normal_.empty()) start_ = initial();
   }
 
   Eigen::VectorXd initial() const {
@@ -149,6 +156,16 @@ class MeanEnergy {
         grad.segment<3>(3 * static_cast<Eigen::Index>(k)) = -size_ * g;  // x is in units of size_
       }
     });
+    // Springs along the surface normal hold the boundary points near the surface: they
+    // slide along it freely, and the caller puts them back on it.
+    if (!normal_.empty())
+      for (std::size_t k = 0; k < free_.size(); ++k) {
+        if (normal_[k].squaredNorm() == 0) continue;
+        const auto segment = 3 * static_cast<Eigen::Index>(k);
+        const double off = (Vec3(x.segment<3>(segment)) - Vec3(start_.segment<3>(segment))).dot(normal_[k]);
+        total -= normal_stiffness_ * off * off;
+        grad.segment<3>(segment) += 2 * normal_stiffness_ * off * normal_[k];
+      }
     // The line search may end on a worse point than one it tried (LBFGSpp throws when it
     // gives up): the best feasible point seen is what counts.
     if (-total < best_value_) best_value_ = -total, best_ = x;
@@ -178,6 +195,9 @@ class MeanEnergy {
   }
 
   const std::vector<Vec3>& points_;
+  std::span<const Vec3> normal_;
+  double normal_stiffness_;
+  Eigen::VectorXd start_;
   std::span<const std::array<Index, 8>> hexes_;
   std::span<const Index> free_;
   std::span<const double> floor_;
@@ -195,12 +215,13 @@ class MeanEnergy {
 
 HexMeanAscentResult raise_mean_scaled_jacobian(std::vector<Vec3>& points, std::span<const std::array<Index, 8>> hexes,
                                                std::span<const Index> free, std::span<const double> floor,
-                                               int max_iterations) {
+                                               int max_iterations, std::span<const Vec3> normal,
+                                               double normal_stiffness) {
   HexMeanAscentResult result;
   if (free.empty() || hexes.empty() || floor.size() != hexes.size()) return result;
   const double size = mean_hex_edge_length(points, hexes);
   if (!(size > 0)) return result;
-  MeanEnergy energy(points, hexes, free, floor, size);
+  MeanEnergy energy(points, hexes, free, floor, size, normal, normal_stiffness);
   Eigen::VectorXd x = energy.initial();
   result.score_sum_before = energy.score_sum(x);
   result.score_sum_after = result.score_sum_before;

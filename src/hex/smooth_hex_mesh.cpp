@@ -100,6 +100,11 @@ constexpr double kRestartBelow = 0.3;
 // of a 62 s run (so the default mean_below, 0.94, leaves it alone).
 constexpr double kMeanFrozenMargin = 0.1, kMeanFloorMargin = 0.05, kMeanMinimumGain = 3e-4;
 constexpr int kMeanRounds = 8, kMeanIterations = 100;
+// The springs that hold the boundary points near the surface during the joint ascent: a point
+// a tenth of a hex edge off the surface costs 0.01 of a hex's score. On the closed dog
+// stiffness 1 reached a mean of 0.9408 in 8 rounds, 10 reached 0.9405 and 100 0.9395 (the
+// points gain by leaving the surface for a while, more than putting them back loses).
+constexpr double kMeanNormalStiffness = 1.0;
 constexpr int kBoundaryMeanSweeps = 10;
 constexpr double kBoundarySweepGain = 2e-5;
 // A boundary move of that ascent must raise the sum of its hexes' scores by this much.
@@ -595,12 +600,17 @@ class Smoother {
   // Back to sweeps over the whole mesh.
   void clear_focus() { focus_.clear(); }
 
-  // Joint ascent of the mean (raise_mean_scaled_jacobian.cpp) over the interior points,
-  // with every hex kept at least kMeanFloorMargin above the worst hex of the mesh. The
-  // points of the hexes within kMeanFrozenMargin of the worst stay put: those hexes are what
-  // the sweeps and the polish balanced, and a barrier this close to them would cut every
-  // step of the joint line search short. `worst` is the mesh's worst score. Returns whether
-  // the points moved.
+  // Joint ascent of the mean (raise_mean_scaled_jacobian.cpp), with every hex kept at least
+  // kMeanFloorMargin above the worst hex of the mesh. The points of the hexes within
+  // kMeanFrozenMargin of the worst stay put: those hexes are what the sweeps and the polish
+  // balanced, and a barrier this close to them would cut every step of the joint line search
+  // short. The boundary points move too, held near the surface by springs along its normal
+  // (kMeanNormalStiffness), and go back onto it afterwards; where that takes a hex below the
+  // floor, the points of that hex go back to where they were, until none is. With the
+  // interior points alone the ascent stalled under 0.94 on the dogs, a quarter of whose hexes
+  // touch the boundary and hold half of the mean's shortfall (the closed dog: 0.9393 after 8
+  // rounds; with the boundary, 0.9408). `worst` is the mesh's worst score. Returns whether the
+  // points moved.
   bool raise_mean(double worst) {
     if (!(worst > 0)) return false;
     std::vector<std::uint8_t> frozen(mesh_.points.size(), 0);
@@ -609,17 +619,49 @@ class Smoother {
         for (const Index v : mesh_.hexes[h]) frozen[v] = 1;
     std::vector<Index> free;
     for (std::size_t v = 0; v < mesh_.points.size(); ++v)
-      if (movable_[v] && !boundary_[v] && !frozen[v]) free.push_back(static_cast<Index>(v));
+      if (movable_[v] && !frozen[v]) free.push_back(static_cast<Index>(v));
     std::vector<std::array<Index, 8>> hexes;
     std::vector<Index> hex_ids;
     hexes_using(free, hex_ids, hexes);
     // Every hex here has a free point, so none is within kMeanFrozenMargin of the worst.
-    const std::vector<double> floor(hexes.size(), worst + kMeanFloorMargin);
+    const double floor = worst + kMeanFloorMargin;
+    std::vector<Vec3> normal(free.size(), Vec3::Zero());  // zero: an interior point, no spring
+    std::vector<Vec3> saved(free.size());
+    for (std::size_t k = 0; k < free.size(); ++k) {
+      saved[k] = mesh_.points[free[k]];
+      if (!boundary_[free[k]]) continue;
+      for (const Index q : point_quads_.row(free[k]))
+        if (const Vec3 n = quad_normal(mesh_.points, quads_[q]); n.norm() > 0) normal[k] += n.normalized();
+      if (normal[k].norm() > 0) normal[k].normalize();
+    }
+    double sum_before = 0;
+    for (const Index h : hex_ids) sum_before += score_[h];
     const hex_detail::HexMeanAscentResult ascent =
-        hex_detail::raise_mean_scaled_jacobian(mesh_.points, hexes, free, floor, kMeanIterations);
+        hex_detail::raise_mean_scaled_jacobian(mesh_.points, hexes, free, std::vector<double>(hexes.size(), floor),
+                                               kMeanIterations, normal, kMeanNormalStiffness);
     if (!(ascent.score_sum_after > ascent.score_sum_before)) return false;
+    std::vector<Index> slot(mesh_.points.size(), kInvalidIndex);
+    for (std::size_t k = 0; k < free.size(); ++k) {
+      slot[free[k]] = static_cast<Index>(k);
+      if (boundary_[free[k]]) mesh_.points[free[k]] = put_back(free[k], mesh_.points[free[k]]);
+    }
     for (const Index h : hex_ids) score_[h] = hex_score(h);
-    return true;
+    for (bool restored = true; restored;) {
+      restored = false;
+      std::vector<Index> moved_back;
+      for (const Index h : hex_ids)
+        if (!(score_[h] > floor))
+          for (const Index v : mesh_.hexes[h])
+            if (slot[v] != kInvalidIndex && mesh_.points[v] != saved[slot[v]])
+              mesh_.points[v] = saved[slot[v]], moved_back.push_back(v), restored = true;
+      for (const Index v : moved_back) rescore(v);
+    }
+    double sum_after = 0;
+    for (const Index h : hex_ids) sum_after += score_[h];
+    if (sum_after > sum_before) return true;
+    for (std::size_t k = 0; k < free.size(); ++k) mesh_.points[free[k]] = saved[k];
+    for (const Index h : hex_ids) score_[h] = hex_score(h);
+    return false;
   }
 
   // One sweep over the movable boundary points, each moved (along the gradient of the sum of

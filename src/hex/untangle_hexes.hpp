@@ -102,8 +102,11 @@ struct HexMeanAscentResult {
 /// start): L-BFGS on the sum of per-hex soft minima of the 9 Verdict samples, with a log
 /// barrier at the floors (raise_mean_scaled_jacobian.cpp), for up to max_iterations L-BFGS
 /// iterations (restarted after a failed line search). `points` change only if the sum rose.
+/// If `normal` is given (one per free point; zero for none), a free point pays
+/// normal_stiffness (d . n)^2 for its offset d from its start along n, in mean hex edges.
 HexMeanAscentResult raise_mean_scaled_jacobian(std::vector<Vec3>& points, std::span<const std::array<Index, 8>> hexes,
                                                std::span<const Index> free, std::span<const double> floor,
-                                               int max_iterations);
+                                               int max_iterations, std::span<const Vec3> normal = {},
+                                               double normal_stiffness = 0);
 
 }  // namespace structmesh::hex_detail

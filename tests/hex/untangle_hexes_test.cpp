@@ -165,6 +165,50 @@ TEST(RaiseMeanScaledJacobian, RaisesTheMeanAndKeepsEveryHexAboveItsFloor) {
     }
 }
 
+// Free points with a normal pay a spring for leaving their place along it: the top face's
+// points of a perturbed grid, free with normal z and bumped off their plane, keep their
+// height under stiff springs (within a thousandth of an edge) while they slide sideways and
+// the mean rises; without the springs the ascent flattens the bumps.
+TEST(RaiseMeanScaledJacobian, NormalSpringsHoldBoundaryPointsAlongTheNormal) {
+  HexMesh mesh = test::hex_grid(6, 6, 6);
+  std::vector<Index> free;
+  std::vector<Vec3> normal;
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> offset(-0.2, 0.2);
+  for (std::size_t v = 0; v < mesh.points.size(); ++v) {
+    Vec3& p = mesh.points[v];
+    if (p.x() < 0.5 || p.x() > 5.5 || p.y() < 0.5 || p.y() > 5.5 || p.z() < 0.5) continue;
+    const bool top = p.z() > 5.5;
+    p += Vec3(offset(random), offset(random), offset(random));
+    free.push_back(static_cast<Index>(v));
+    normal.push_back(top ? Vec3(0, 0, 1) : Vec3::Zero());
+  }
+  ASSERT_EQ(free.size(), 150u);
+  const std::vector<double> before = hex_scores(mesh);
+  const std::vector<double> floor(before.size(), *std::min_element(before.begin(), before.end()) - 1e-9);
+  const auto height_change = [&](const std::vector<Vec3>& points, const std::vector<Vec3>& start) {
+    double most = 0, slid = 0;
+    for (std::size_t k = 0; k < free.size(); ++k)
+      if (normal[k].squaredNorm() > 0) {
+        const Vec3 move = points[free[k]] - start[free[k]];
+        most = std::max(most, std::abs(move.z()));
+        slid = std::max(slid, move.head<2>().norm());
+      }
+    return std::pair{most, slid};
+  };
+  std::vector<Vec3> loose = mesh.points;
+  hex_detail::raise_mean_scaled_jacobian(loose, mesh.hexes, free, floor, 300, normal, 0);
+  EXPECT_GT(height_change(loose, mesh.points).first, 0.02);
+
+  const std::vector<Vec3> start = mesh.points;
+  const hex_detail::HexMeanAscentResult result =
+      hex_detail::raise_mean_scaled_jacobian(mesh.points, mesh.hexes, free, floor, 300, normal, 1e6);
+  EXPECT_GT(result.score_sum_after, result.score_sum_before + 0.02 * static_cast<double>(before.size()));
+  const auto [height, slid] = height_change(mesh.points, start);
+  EXPECT_LT(height, 1e-3);
+  EXPECT_GT(slid, 0.05);
+}
+
 // A start below a floor, or floors that do not match the hexes, leave the points alone.
 TEST(RaiseMeanScaledJacobian, LeavesThePointsAloneWhenAHexStartsBelowItsFloor) {
   HexMesh mesh = test::hex_grid(3, 3, 3);
