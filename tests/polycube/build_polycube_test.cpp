@@ -133,8 +133,8 @@ TEST(BuildPolycube, ClosedDogWithEarsThinnerThanAVoxel) {
   const PolycubeResult result = build_polycube(TriMesh{bundle.points, bundle.triangles});
   EXPECT_GT(result.thin_feature_voxels, 0U);
   expect_valid_polycube(result, 0);
-  // Its tail, flattened thinner than a voxel, gets voxels (cover_far_points), and the first
-  // optimisation cuts off a foreleg, so it runs again with Q's points guarded: afterwards
+  // Its tail, flattened thinner than a voxel, gets voxels (cover_far_points), and so the
+  // optimisation runs with Q's points guarded (unguarded, it cut off a foreleg): afterwards
   // the points of Q lie within 5 voxels of P (the guard's 3, plus 2 of plane merging) but
   // for a few ear tips that no voxel reached to begin with (22 of 25,292; without a voxel
   // for the tail, 200 of its points alone lay 8 voxels out).
