@@ -629,10 +629,7 @@ class Smoother {
     std::vector<Vec3> saved(free.size());
     for (std::size_t k = 0; k < free.size(); ++k) {
       saved[k] = mesh_.points[free[k]];
-      if (!boundary_[free[k]]) continue;
-      for (const Index q : point_quads_.row(free[k]))
-        if (const Vec3 n = quad_normal(mesh_.points, quads_[q]); n.norm() > 0) normal[k] += n.normalized();
-      if (normal[k].norm() > 0) normal[k].normalize();
+      if (boundary_[free[k]]) normal[k] = surface_normal(free[k]);
     }
     double sum_before = 0;
     for (const Index h : hex_ids) sum_before += score_[h];
@@ -883,10 +880,7 @@ class Smoother {
     // A point on the surface moves in its tangent plane (then back onto the surface): the
     // gradients' normal parts would only be projected away.
     if (boundary_[v] && !released_[v]) {
-      Vec3 normal = Vec3::Zero();
-      for (const Index q : point_quads_.row(v)) normal += quad_normal(mesh_.points, quads_[q]);
-      if (normal.squaredNorm() > 0) {
-        normal.normalize();
+      if (const Vec3 normal = surface_normal(v); normal.squaredNorm() > 0) {
         for (auto& sample : samples) sample.second -= normal.dot(sample.second) * normal;
         sum_gradient -= normal.dot(sum_gradient) * normal;
       }
@@ -910,6 +904,14 @@ class Smoother {
       direction += std::min(1.0, gap / towards.squaredNorm()) * towards;
     }
     return {direction, sum_gradient};
+  }
+
+  // The unit normal of the surface at boundary point v: the area-weighted mean of its
+  // boundary quads' normals (zero if they cancel).
+  Vec3 surface_normal(Index v) const {
+    Vec3 normal = Vec3::Zero();
+    for (const Index q : point_quads_.row(v)) normal += quad_normal(mesh_.points, quads_[q]);
+    return normal.squaredNorm() > 0 ? Vec3(normal.normalized()) : Vec3::Zero();
   }
 
   // The worst and the sum of the scores of v's hexes.
