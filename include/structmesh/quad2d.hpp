@@ -104,10 +104,17 @@ std::optional<PavedPart> mapped_mesh(const Polygon2& boundary, const std::array<
 /// the centre has chord_segments[i] segments. The blocks' opposite sides match when
 /// (splits[i] - corners[i]) == chord_segments[i-1] and
 /// (corners[i+1] - splits[i]) == chord_segments[i+1] (indices modulo n).
+///
+/// A block may instead be a triangle (triangle[i] = 1): its corner is only a point of a
+/// straight side between the split points i-1 and i, and the block (that stretch of the
+/// loop, chord i, chord i-1) is meshed as three blocks around a centre of its own. Its
+/// counts need only an even sum and strict triangle inequalities. One such block in a
+/// four-cornered part gives the transition layout of transition_block_candidates().
 struct PolarBlocks {
   std::vector<std::int64_t> corners;  ///< loop positions, ascending; empty = not used
   std::vector<std::int64_t> splits;
   std::vector<Index> chord_segments;
+  std::vector<std::uint8_t> triangle;  ///< per block: 1 = a triangle block; empty = none
 };
 
 /// The mesh of a PolarBlocks decomposition: every block a structured grid
@@ -131,6 +138,20 @@ std::optional<PavedPart> polar_mesh(const Polygon2& boundary, const PolarBlocks&
 /// chords' deviation from their length to the loop's mean point; at most `max_candidates`; empty
 /// for a part with holes, an odd loop or fewer than 3 corners.
 std::vector<PolarBlocks> polar_block_candidates(const Polygon2& boundary, std::size_t max_candidates = 3);
+
+/// Transition layouts for a part with four corners (found as in polar_block_candidates();
+/// of a part with more, the four that leave out the least turn) whose opposite sides
+/// differ, so that no grid fits: grid blocks at the corners around a centre of valence 5
+/// and a triangle block (PolarBlocks::triangle) on a long side, which takes up the
+/// difference of that side and the one opposite; the triangle's own centre has valence
+/// 3. So the part gets two interior singular vertices (a 3-5 pair) where a three-block
+/// layout must leave a corner inside a block side and paving leaves dozens. With s_0 the
+/// long side and s_2 the one opposite, the triangle's base is s_0 - s_2 and its legs
+/// s_3 - h and s_1 - h (h the chord to side 2). Layouts come best first: least turn
+/// left out, then the triangle closest to equilateral; at most `max_candidates`, one
+/// per corner set and side; empty for a part with holes, an odd loop or fewer than four
+/// corners.
+std::vector<PolarBlocks> transition_block_candidates(const Polygon2& boundary, std::size_t max_candidates = 3);
 
 // ---------------------------------------------------------------------------
 // Boundary sampling shared by neighbouring parts

@@ -39,6 +39,9 @@ using Clock = std::chrono::steady_clock;
 constexpr double kUnplannedBlocksMaxQuads = 15000;
 constexpr std::size_t kUnplannedLayouts = 3;
 constexpr double kHopelessLayout = 0.1;
+// Transition layouts (transition_block_candidates()) tried per part after those: on the
+// Key and the Pipe every part they mesh takes its first (ref. below).
+constexpr std::size_t kTransitionLayouts = 2;
 
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
@@ -168,9 +171,8 @@ std::vector<PavedPart> pave_parts(const Quad2dSetup& setup, std::span<const std:
             // (paving time 1.8 -> 4.3 s on one thread, for the layouts that fail), on the
             // Gulf in 1024 parts from 16,213 to 14,416 (paving 10.7 -> 27 s on two threads).
             bool unplanned = false;
-            if (!mapped && boundary.ring_count() == 1 &&
-                setup.partition.part_areas[p] / (setup.size * setup.size) <= kUnplannedBlocksMaxQuads) {
-              for (const PolarBlocks& blocks : polar_block_candidates(boundary, kUnplannedLayouts)) {
+            const auto try_layouts = [&](const std::vector<PolarBlocks>& layouts) {
+              for (const PolarBlocks& blocks : layouts) {
                 double reached = -std::numeric_limits<double>::infinity();
                 try {
                   mapped = polar_mesh(boundary, blocks, {}, &reached);
@@ -190,6 +192,13 @@ std::vector<PavedPart> pave_parts(const Quad2dSetup& setup, std::span<const std:
                   break;
                 }
               }
+            };
+            if (!mapped && boundary.ring_count() == 1 &&
+                setup.partition.part_areas[p] / (setup.size * setup.size) <= kUnplannedBlocksMaxQuads) {
+              try_layouts(polar_block_candidates(boundary, kUnplannedLayouts));
+              // Then a centre with a triangle block (transition_block_candidates(): a
+              // 3-5 pair for four corners whose opposite sides differ).
+              if (!mapped) try_layouts(transition_block_candidates(boundary, kTransitionLayouts));
             }
             if (mapped) {
               paved[p] = std::move(*mapped);

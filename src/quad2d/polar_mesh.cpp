@@ -32,17 +32,19 @@ Vec2 area_centroid(const std::span<const Vec2> ring) {
   return o + sum / (3.0 * area);
 }
 
-}  // namespace
-
-std::optional<PavedPart> polar_mesh(const Polygon2& boundary, const PolarBlocks& blocks,
-                                    const MappedMeshOptions& options, double* polished_min) {
+// polar_mesh() with the final polish optional: a triangle block is built unpolished
+// (straight chords to its centroid), as the whole part is polished together after.
+std::optional<PavedPart> mesh_blocks(const Polygon2& boundary, const PolarBlocks& blocks,
+                                     const MappedMeshOptions& options, double* polished_min, bool polish) {
   if (polished_min != nullptr) *polished_min = -std::numeric_limits<double>::infinity();
   if (boundary.ring_count() != 1) throw InputError("polar_mesh: the part must have one loop (no holes)");
   const std::span<const Vec2> ring = boundary.ring(0);
   const auto n = static_cast<std::int64_t>(ring.size());
   const std::size_t k = blocks.corners.size();
-  if (k < 3 || blocks.splits.size() != k || blocks.chord_segments.size() != k)
+  if (k < 3 || blocks.splits.size() != k || blocks.chord_segments.size() != k ||
+      (!blocks.triangle.empty() && blocks.triangle.size() != k))
     throw InputError("polar_mesh: need matching corners, splits and chord counts for at least 3 corners");
+  const auto is_triangle = [&](std::size_t i) { return !blocks.triangle.empty() && blocks.triangle[i] != 0; };
   for (std::size_t i = 0; i < k; ++i) {
     const std::int64_t corner = blocks.corners[i], split = blocks.splits[i];
     const std::int64_t next = i + 1 < k ? blocks.corners[i + 1] : blocks.corners[0] + n;
@@ -50,9 +52,21 @@ std::optional<PavedPart> polar_mesh(const Polygon2& boundary, const PolarBlocks&
     if (corner < 0 || corner >= n || (i > 0 && corner <= blocks.corners[i - 1]) || split < 0 || split >= n ||
         !(corner < split_unwrapped && split_unwrapped < next) || blocks.chord_segments[i] < 1)
       throw InputError("polar_mesh: inconsistent block " + std::to_string(i));
-    if (split_unwrapped - corner != blocks.chord_segments[(i + k - 1) % k] ||
-        next - split_unwrapped != blocks.chord_segments[(i + 1) % k])
+  }
+  for (std::size_t i = 0; i < k; ++i) {
+    // Block i runs from split i-1 past corner i to split i.
+    const std::size_t previous = (i + k - 1) % k;
+    const std::int64_t to_corner = (blocks.corners[i] - blocks.splits[previous] + n) % n;
+    const std::int64_t from_corner = (blocks.splits[i] - blocks.corners[i] + n) % n;
+    const std::int64_t a = blocks.chord_segments[i], b = blocks.chord_segments[previous];
+    if (is_triangle(i)) {
+      const std::int64_t base = to_corner + from_corner;
+      if ((base + a + b) % 2 != 0 || !(base < a + b && a < base + b && b < base + a))
+        throw InputError("polar_mesh: triangle block " + std::to_string(i) +
+                         " needs an even loop and strict triangle inequalities");
+    } else if (to_corner != a || from_corner != b) {
       throw InputError("polar_mesh: block " + std::to_string(i) + " has unequal opposite sides");
+    }
   }
   const Vec2 centre = area_centroid(ring);
   if (!detail::point_in_ring(ring, centre)) return std::nullopt;
@@ -99,7 +113,23 @@ std::optional<PavedPart> polar_mesh(const Polygon2& boundary, const PolarBlocks&
     // it is mapped, so the whole part is checked, and polished, together below.
     MappedMeshOptions block_options = options;
     block_options.min_scaled_jacobian = -1;
-    std::optional<PavedPart> grid = mapped_mesh(block, corners, block_options);
+    std::optional<PavedPart> grid;
+    if (is_triangle(i)) {
+      // Three blocks around the triangle's own centre (corners: split i-1, split i,
+      // the centre); side j has r_{j-1} + r_{j+1} = n/2 - r_j segments, so r_j = n/2 - s_j
+      // (sides s = base, chord i, chord i-1), positive by the triangle inequalities.
+      const auto base = static_cast<std::int64_t>(corners[2]);
+      const std::int64_t up = blocks.chord_segments[i], down = blocks.chord_segments[previous];
+      const std::int64_t half = (base + up + down) / 2;
+      PolarBlocks inner;
+      inner.corners = {0, base, base + up};
+      inner.chord_segments = {static_cast<Index>(half - base), static_cast<Index>(half - up),
+                              static_cast<Index>(half - down)};
+      for (std::size_t j = 0; j < 3; ++j) inner.splits.push_back(inner.corners[j] + inner.chord_segments[(j + 2) % 3]);
+      grid = mesh_blocks(block, inner, block_options, nullptr, false);
+    } else {
+      grid = mapped_mesh(block, corners, block_options);
+    }
     if (!grid) return std::nullopt;
     // Block-local points: its loop first, then its interior points.
     std::vector<Index> global(loop.begin(), loop.end());
@@ -110,7 +140,7 @@ std::optional<PavedPart> polar_mesh(const Polygon2& boundary, const PolarBlocks&
     for (const auto& quad : grid->quads)
       result.quads.push_back({global[quad[0]], global[quad[1]], global[quad[2]], global[quad[3]]});
   }
-  {
+  if (polish) {
     // Straight chords to the centroid give blocks of uneven shape (measured on the
     // Key: worst corners 0.3..0.55, some blocks folded). Moving the chord points and
     // the centre with the interiors evens them out (0.58..0.74 on the same parts).
@@ -124,6 +154,13 @@ std::optional<PavedPart> polar_mesh(const Polygon2& boundary, const PolarBlocks&
   }
   result.stats.polar = 1;
   return result;
+}
+
+}  // namespace
+
+std::optional<PavedPart> polar_mesh(const Polygon2& boundary, const PolarBlocks& blocks,
+                                    const MappedMeshOptions& options, double* polished_min) {
+  return mesh_blocks(boundary, blocks, options, polished_min, true);
 }
 
 }  // namespace structmesh

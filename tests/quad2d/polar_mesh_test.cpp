@@ -10,6 +10,7 @@
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <optional>
 
 namespace structmesh {
 namespace {
@@ -39,7 +40,14 @@ PolarBlocks regular_blocks(int k, int per_side) {
   return blocks;
 }
 
+void expect_valid_blocks(const Polygon2& polygon, const PavedPart& part, std::size_t singular);
+
 void expect_valid_polar(const Polygon2& polygon, const PavedPart& part, int k) {
+  // The centre is the only interior singular vertex (none when k = 4).
+  expect_valid_blocks(polygon, part, k == 4 ? 0U : 1U);
+}
+
+void expect_valid_blocks(const Polygon2& polygon, const PavedPart& part, std::size_t singular) {
   // Input points first, bit-identical.
   for (std::size_t i = 0; i < polygon.points.size(); ++i) ASSERT_EQ(part.points[i], polygon.points[i]);
   QuadMesh mesh;
@@ -48,8 +56,7 @@ void expect_valid_polar(const Polygon2& polygon, const PavedPart& part, int k) {
   const QuadQuality quality = quad_quality(mesh);
   EXPECT_EQ(quality.inverted, 0U);
   EXPECT_GT(quality.scaled_jacobian_stats.min, 0.3);
-  // The centre is the only interior singular vertex (none when k = 4).
-  EXPECT_EQ(quality.singular_vertices, k == 4 ? 0U : 1U);
+  EXPECT_EQ(quality.singular_vertices, singular);
   const EdgeAdjacency edges = build_edges(mesh);
   std::size_t boundary = 0;
   for (std::size_t e = 0; e < edges.edges.size(); ++e) {
@@ -371,6 +378,84 @@ TEST(PolarMesh, UnevenBlocksArePolishedTogether) {
     worst_ratio = std::max(worst_ratio, longest / shortest);
   }
   EXPECT_LT(worst_ratio, 4.0);
+}
+
+// Interior points of the mesh by their number of quads.
+std::map<int, int> interior_valences(const Polygon2& polygon, const PavedPart& part) {
+  std::vector<int> quads_at(part.points.size(), 0);
+  for (const auto& q : part.quads)
+    for (const Index v : q) ++quads_at[v];
+  std::map<int, int> count;
+  for (std::size_t v = polygon.points.size(); v < part.points.size(); ++v) ++count[quads_at[v]];
+  return count;
+}
+
+TEST(TransitionBlockCandidates, TrapezoidGetsAThreeFivePair) {
+  // Bottom 40 segments, top 20: no grid fits and a three-block layout must leave a
+  // corner inside a block side; the transition keeps all four corners as block corners
+  // and takes up the difference of 20 in a triangle on the bottom.
+  const Polygon2 trapezoid = sampled_polygon({{0, 0}, {4, 0}, {3, 2}, {1, 2}}, {40, 22, 20, 22});
+  const std::vector<PolarBlocks> layouts = transition_block_candidates(trapezoid, 3);
+  ASSERT_FALSE(layouts.empty());
+  for (const PolarBlocks& blocks : layouts) {
+    ASSERT_EQ(blocks.corners.size(), 5U);
+    ASSERT_EQ(blocks.triangle.size(), 5U);
+    EXPECT_EQ(std::count(blocks.triangle.begin(), blocks.triangle.end(), 1), 1);
+    // The four corners of the trapezoid are among the layout's corners.
+    for (const std::int64_t c : {0, 40, 62, 82})
+      EXPECT_NE(std::find(blocks.corners.begin(), blocks.corners.end(), c), blocks.corners.end()) << c;
+    // The triangle sits on the bottom, between the corners at 0 and 40.
+    const auto t = static_cast<std::size_t>(std::find(blocks.triangle.begin(), blocks.triangle.end(), 1) -
+                                            blocks.triangle.begin());
+    EXPECT_GT(blocks.corners[t], 0);
+    EXPECT_LT(blocks.corners[t], 40);
+  }
+  const std::optional<PavedPart> part = polar_mesh(trapezoid, layouts[0]);
+  ASSERT_TRUE(part.has_value());
+  // Two interior singular vertices: the centre (5 quads) and the triangle's (3).
+  expect_valid_blocks(trapezoid, *part, 2U);
+  const std::map<int, int> valences = interior_valences(trapezoid, *part);
+  EXPECT_EQ(valences.count(5) ? valences.at(5) : 0, 1);
+  EXPECT_EQ(valences.count(3) ? valences.at(3) : 0, 1);
+  QuadMesh mesh;
+  for (const Vec2& p : part->points) mesh.points.emplace_back(p.x(), p.y(), 0.0);
+  mesh.quads = part->quads;
+  EXPECT_GE(quad_quality(mesh).scaled_jacobian_stats.min, MappedMeshOptions{}.min_scaled_jacobian);
+}
+
+TEST(TransitionBlockCandidates, NoneWhereAGridFitsOrWithoutFourCorners) {
+  // Opposite sides match: a grid, no transition.
+  EXPECT_TRUE(
+      transition_block_candidates(sampled_polygon({{0, 0}, {2, 0}, {2, 1}, {0, 1}}, {20, 10, 20, 10}), 3).empty());
+  // Three corners, a circle, an odd loop, no candidates asked for.
+  EXPECT_TRUE(transition_block_candidates(sampled_polygon({{0, 0}, {2, 0}, {1, 1.7}}, {10, 10, 10}), 3).empty());
+  EXPECT_TRUE(transition_block_candidates(regular_polygon(40, 1), 3).empty());
+  EXPECT_TRUE(
+      transition_block_candidates(sampled_polygon({{0, 0}, {4, 0}, {3, 2}, {1, 2}}, {40, 22, 19, 22}), 3).empty());
+  EXPECT_TRUE(
+      transition_block_candidates(sampled_polygon({{0, 0}, {4, 0}, {3, 2}, {1, 2}}, {40, 22, 20, 22}), 0).empty());
+}
+
+TEST(PolarMesh, RejectsATriangleBlockThatIsNoTriangle) {
+  // The trapezoid's layout with the triangle's legs made as long as its base plus the
+  // other leg: the triangle inequalities fail.
+  const Polygon2 trapezoid = sampled_polygon({{0, 0}, {4, 0}, {3, 2}, {1, 2}}, {40, 22, 20, 22});
+  std::vector<PolarBlocks> layouts = transition_block_candidates(trapezoid, 1);
+  ASSERT_EQ(layouts.size(), 1U);
+  PolarBlocks blocks = layouts[0];
+  const auto t =
+      static_cast<std::size_t>(std::find(blocks.triangle.begin(), blocks.triangle.end(), 1) - blocks.triangle.begin());
+  const std::size_t k = blocks.corners.size(), previous = (t + k - 1) % k;
+  const std::int64_t base = blocks.splits[t] - blocks.splits[previous];
+  // Unflagged, the triangle is taken as a grid block, whose opposite sides differ.
+  PolarBlocks unflagged = blocks;
+  unflagged.triangle.assign(k, 0);
+  EXPECT_THROW(polar_mesh(trapezoid, unflagged), InputError);
+  blocks.chord_segments[t] = static_cast<Index>(base + blocks.chord_segments[previous]);
+  EXPECT_THROW(polar_mesh(trapezoid, blocks), InputError);
+  blocks = layouts[0];
+  blocks.triangle.pop_back();
+  EXPECT_THROW(polar_mesh(trapezoid, blocks), InputError);
 }
 
 }  // namespace
