@@ -182,6 +182,13 @@ struct SampledPartition {
 /// that costs little (blocks = true); if CBC finds nothing, rounding plus a parity repair.
 SampledPartition sample_partition(const Partition& partition, double size, bool blocks = true);
 
+/// Merges the two end junctions of every separator curve shorter than `min_length`
+/// (metric plane) and drops the curve from the partition and its parts' loops, so that
+/// sampling leaves no boundary edge of almost no length at a corner. The end on the
+/// region's boundary is the one kept; a curve with both ends on it, or whose removal
+/// would leave a loop of fewer than three curves, stays. Returns the curves removed.
+std::size_t collapse_tiny_separators(Partition& partition, double min_length);
+
 /// The part's boundary as a Polygon2 for pave(), and the map from its points to
 /// the SampledPartition's point indices.
 std::pair<Polygon2, std::vector<Index>> part_boundary(const SampledPartition& sampled, std::size_t part);

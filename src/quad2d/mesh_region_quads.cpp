@@ -39,6 +39,9 @@ using Clock = std::chrono::steady_clock;
 constexpr double kUnplannedBlocksMaxQuads = 15000;
 constexpr std::size_t kUnplannedLayouts = 3;
 constexpr double kHopelessLayout = 0.1;
+// Separators shorter than this many element sizes are collapsed to a point before
+// sampling (collapse_tiny_separators()).
+constexpr double kTinySeparator = 0.1;
 // Transition layouts (transition_block_candidates()) tried per part after those: one.
 // The Key's two parts that take one take the first. With two tries the Pipe gained a
 // part (588 -> 556 singular vertices; its first layout polished to 0.588), but the
@@ -115,6 +118,7 @@ Quad2dSetup setup_quad2d(const Polygon2& region, const Quad2dOptions& options, s
   setup.partition = partition_region(region, partition_options);
   setup.stage_seconds.emplace_back("partition", seconds_since(stage_start));
   stage_start = Clock::now();
+  collapse_tiny_separators(setup.partition, kTinySeparator * size);
   setup.sampled = sample_partition(setup.partition, size, options.blocks);
   setup.size = size;
   setup.stage_seconds.emplace_back("sample", seconds_since(stage_start));

@@ -163,6 +163,64 @@ TEST(SamplePartition, RectanglePartsBecomeMappableWithMatchingSides) {
   }
 }
 
+// Separators shorter than `length` with an end off the region's boundary.
+std::size_t tiny_separators(const Partition& partition, double length) {
+  std::set<Index> boundary;
+  for (const PartitionCurve& curve : partition.curves)
+    if (curve.kind == PartitionCurve::Kind::Boundary) boundary.insert(curve.vertices.begin(), curve.vertices.end());
+  std::size_t count = 0;
+  for (const PartitionCurve& curve : partition.curves) {
+    if (curve.kind != PartitionCurve::Kind::Separator || curve.vertices.front() == curve.vertices.back()) continue;
+    double total = 0;
+    for (std::size_t i = 1; i < curve.vertices.size(); ++i)
+      total += (partition.metric_vertices[curve.vertices[i]] - partition.metric_vertices[curve.vertices[i - 1]]).norm();
+    if (total < length && !(boundary.count(curve.vertices.front()) && boundary.count(curve.vertices.back()))) ++count;
+  }
+  return count;
+}
+
+TEST(CollapseTinySeparators, KeyJunctionsAHairApartBecomeOne) {
+  // The Key in 32 parts as quad2d partitions it: two junctions 0.0034 element sizes
+  // apart, joined by a separator that sampling would keep as an edge of that length.
+  PartitionOptions options;
+  options.parts = 32;
+  options.cells = 768;
+  Partition partition = partition_region(make_key_region(2000), options);
+  const double size = 0.0156755;
+  const std::size_t tiny = tiny_separators(partition, 0.1 * size);
+  ASSERT_GE(tiny, 1U);
+  Partition untouched = partition;
+  EXPECT_EQ(collapse_tiny_separators(untouched, 0.0), 0U);
+  EXPECT_EQ(untouched.curves.size(), partition.curves.size());
+  const std::size_t curves = partition.curves.size();
+  EXPECT_EQ(collapse_tiny_separators(partition, 0.1 * size), tiny);
+  EXPECT_EQ(partition.curves.size(), curves - tiny);
+  EXPECT_EQ(tiny_separators(partition, 0.1 * size), 0U);
+  // Every loop is still a closed chain of curves.
+  for (std::size_t p = 0; p < partition.part_loops.size(); ++p)
+    for (const auto& loop : partition.part_loops[p]) {
+      ASSERT_GE(loop.size(), 1U);
+      const auto end = [&](std::int64_t ref, bool last) {
+        const PartitionCurve& curve = partition.curves[static_cast<std::size_t>(ref >= 0 ? ref : -ref - 1)];
+        return (ref >= 0) == last ? curve.vertices.back() : curve.vertices.front();
+      };
+      for (std::size_t i = 0; i < loop.size(); ++i)
+        EXPECT_EQ(end(loop[i], true), end(loop[(i + 1) % loop.size()], false)) << "part " << p;
+    }
+  // Sampled, no part boundary has an edge shorter than a tenth of the size off the
+  // region's boundary, and every part is still even.
+  const SampledPartition sampled = sample_partition(partition, size);
+  for (std::size_t p = 0; p < sampled.part_loops.size(); ++p) {
+    EXPECT_EQ(boundary_point_count(sampled, p) % 2, 0U);
+    for (const auto& loop : sampled.part_loops[p])
+      for (std::size_t i = 0; i < loop.size(); ++i) {
+        const Index a = loop[i], b = loop[(i + 1) % loop.size()];
+        if (sampled.on_region_boundary[a] && sampled.on_region_boundary[b]) continue;
+        EXPECT_GE((sampled.points[a] - sampled.points[b]).norm(), 0.1 * size) << "part " << p;
+      }
+  }
+}
+
 TEST(SamplePartition, KeyPartsCornersAreConsistent) {
   PartitionOptions options;
   options.parts = 32;
