@@ -37,8 +37,10 @@ std::size_t collapse_tiny_separators(Partition& partition, double min_length) {
       bool has = false;
       for (const std::int64_t ref : loop) {
         const auto id = static_cast<std::size_t>(ref >= 0 ? ref : -ref - 1);
-        if (id == c) has = true;
-        else if (!removed[id]) ++left;
+        if (id == c)
+          has = true;
+        else if (!removed[id])
+          ++left;
       }
       if (has) return left >= 3;
     }
@@ -52,7 +54,8 @@ std::size_t collapse_tiny_separators(Partition& partition, double min_length) {
     if (first == last) continue;  // a closed separator (around a part inside another)
     double length = 0;
     for (std::size_t i = 1; i < curve.vertices.size() && length < min_length; ++i)
-      length += (partition.metric_vertices[curve.vertices[i]] - partition.metric_vertices[curve.vertices[i - 1]]).norm();
+      length +=
+          (partition.metric_vertices[curve.vertices[i]] - partition.metric_vertices[curve.vertices[i - 1]]).norm();
     if (!(length < min_length)) continue;
     // Both ends on the region's boundary: merging them would pinch the region.
     if (on_boundary[first] && on_boundary[last]) continue;

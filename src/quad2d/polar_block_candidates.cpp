@@ -85,6 +85,20 @@ std::vector<LoopCorner> loop_corners(std::span<const Vec2> ring) {
   return corners_found;
 }
 
+// The loop positions of the corners in `mask` (bit i: corners[i]), ascending, and
+// their total turn.
+std::vector<std::int64_t> corner_subset(const std::vector<LoopCorner>& corners, std::uint32_t mask, double& kept_turn) {
+  std::vector<std::int64_t> positions;
+  kept_turn = 0;
+  for (std::size_t i = 0; i < corners.size(); ++i)
+    if (mask & (1u << i)) {
+      positions.push_back(corners[i].at);
+      kept_turn += corners[i].turn;
+    }
+  std::sort(positions.begin(), positions.end());
+  return positions;
+}
+
 // The chord counts of a layout with these corners (ascending loop positions), or an
 // empty vector when they are not positive integers.
 std::vector<Index> chord_counts(const std::vector<std::int64_t>& corners, std::int64_t n) {
@@ -151,14 +165,8 @@ std::vector<PolarBlocks> polar_block_candidates(const Polygon2& boundary, std::s
   for (std::uint32_t mask = 1; mask < (1u << m); ++mask) {
     const auto k = static_cast<std::size_t>(std::popcount(mask));
     if (k < 3 || k % 2 == 0) continue;
-    std::vector<std::int64_t> base;
     double kept_turn = 0;
-    for (std::size_t i = 0; i < m; ++i)
-      if (mask & (1u << i)) {
-        base.push_back(corners_found[i].at);
-        kept_turn += corners_found[i].turn;
-      }
-    std::sort(base.begin(), base.end());
+    const std::vector<std::int64_t> base = corner_subset(corners_found, mask, kept_turn);
     std::vector<std::vector<std::int64_t>> variants{base};
     for (std::size_t j = 0; j < k; ++j)
       for (const std::int64_t shift : {std::int64_t{1}, std::int64_t{-1}}) {
@@ -223,14 +231,8 @@ std::vector<PolarBlocks> transition_block_candidates(const Polygon2& boundary, s
   for (std::uint32_t mask = 1; mask < (1u << m); ++mask) {
     const auto k = static_cast<std::size_t>(std::popcount(mask));
     if (k < 4 || k > kMaxTransitionCorners) continue;
-    std::vector<std::int64_t> q;
     double kept_turn = 0;
-    for (std::size_t i = 0; i < m; ++i)
-      if (mask & (1u << i)) {
-        q.push_back(corners_found[i].at);
-        kept_turn += corners_found[i].turn;
-      }
-    std::sort(q.begin(), q.end());
+    const std::vector<std::int64_t> q = corner_subset(corners_found, mask, kept_turn);
     std::vector<std::int64_t> c(k + 1), s(k), chord(k + 1), split(k + 1), corner(k + 1);
     for (std::size_t t = 0; t < k; ++t) {
       // Corners from the triangle's side on, unwrapped past the loop's end.
