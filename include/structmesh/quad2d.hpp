@@ -186,7 +186,9 @@ SampledPartition sample_partition(const Partition& partition, double size, bool 
 /// (metric plane) and drops the curve from the partition and its parts' loops, so that
 /// sampling leaves no boundary edge of almost no length at a corner. The end on the
 /// region's boundary is the one kept; a curve with both ends on it, or whose removal
-/// would leave a loop of fewer than three curves, stays. Returns the curves removed.
+/// would leave a loop of fewer than three curves, stays. Partition::parts, part_areas
+/// and metrics are left as they were (they move by less than `min_length`). Returns the
+/// curves removed.
 std::size_t collapse_tiny_separators(Partition& partition, double min_length);
 
 /// The part's boundary as a Polygon2 for pave(), and the map from its points to

@@ -233,7 +233,8 @@ std::vector<PolarBlocks> transition_block_candidates(const Polygon2& boundary, s
     if (k < 4 || k > kMaxTransitionCorners) continue;
     double kept_turn = 0;
     const std::vector<std::int64_t> q = corner_subset(corners_found, mask, kept_turn);
-    std::vector<std::int64_t> c(k + 1), s(k), chord(k + 1), split(k + 1), corner(k + 1);
+    // c: the corners unwrapped; s: the side counts; cs[i] = c_i for i = 1..k-1.
+    std::vector<std::int64_t> c(k + 1), s(k), cs(k), split(k + 1), corner(k + 1);
     for (std::size_t t = 0; t < k; ++t) {
       // Corners from the triangle's side on, unwrapped past the loop's end.
       for (std::size_t j = 0; j < k; ++j) c[j] = q[(t + j) % k] + (t + j >= k ? n : 0);
@@ -243,8 +244,6 @@ std::vector<PolarBlocks> transition_block_candidates(const Polygon2& boundary, s
       std::optional<Scored> best;
       for (std::int64_t e = 1; e < longest; ++e)
         for (std::int64_t h = 1; h < longest; ++h) {
-          // cs[i] = c_i for i = 1..k-1; a, b, x as above.
-          std::vector<std::int64_t>& cs = chord;
           cs[1] = e, cs[2] = h;
           bool positive = true;
           for (std::size_t i = 2; i + 1 < k && positive; ++i) {
