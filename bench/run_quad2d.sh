@@ -15,7 +15,7 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
   echo "# Parallel quad meshing benchmark (issue 4, dissertation §3.3–3.4)"
   echo
   echo "Measured $(date -u +%Y-%m-%d) on this machine: $(nproc) cores, $(awk '/MemTotal/ {printf "%.0f GiB", $2/1048576}' /proc/meminfo)," \
-       "$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'). One run each; times in seconds, wall clock."
+       "$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'). One run each (the thread scaling: three, alternating); times in seconds, wall clock."
   cat "$root/bench/quad2d/notes.md"
   echo
   echo "## Beside Gmsh 4.8.4 (same region, same size, quality measured the same way)"
