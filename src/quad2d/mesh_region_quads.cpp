@@ -13,6 +13,7 @@
 
 #include <oneapi/tbb/info.h>
 #include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/parallel_reduce.h>
 #include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
@@ -20,6 +21,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <numeric>
@@ -67,13 +69,20 @@ double mean_boundary_segment(const Polygon2& metric_region) {
 double quad_mesh_area(const QuadMesh& mesh) {
   // Half the cross product of the diagonals: exact for planar quads and free of
   // the cancellation a shoelace over large coordinates (metres) would suffer.
-  double total = 0;
-  for (const auto& q : mesh.quads) {
-    const Vec3 d0 = mesh.points[q[2]] - mesh.points[q[0]];
-    const Vec3 d1 = mesh.points[q[3]] - mesh.points[q[1]];
-    total += 0.5 * (d0.x() * d1.y() - d0.y() * d1.x());
-  }
-  return total;
+  // A deterministic reduce: the same blocks summed in the same tree whatever the
+  // threads, so the area is bit-identical on 1 and N threads.
+  return tbb::parallel_deterministic_reduce(
+      tbb::blocked_range<std::size_t>(0, mesh.quads.size(), 16384), 0.0,
+      [&](const tbb::blocked_range<std::size_t>& range, double total) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+          const auto& q = mesh.quads[i];
+          const Vec3 d0 = mesh.points[q[2]] - mesh.points[q[0]];
+          const Vec3 d1 = mesh.points[q[3]] - mesh.points[q[1]];
+          total += 0.5 * (d0.x() * d1.y() - d0.y() * d1.x());
+        }
+        return total;
+      },
+      std::plus<double>());
 }
 
 std::size_t default_part_count(std::size_t expected_quads, std::size_t processes) {
