@@ -82,24 +82,24 @@ QuadQuality quad_quality(const QuadMesh& mesh) {
   // work) and the scaled Jacobians (parallel) are independent: computed side by side,
   // a second thread is not left idle during the sort.
   QuadVertexClasses classes;
-  tbb::parallel_invoke([&] { classes = classify_vertices(mesh); },
-                       [&] {
-                         quality.scaled_jacobian.resize(mesh.quads.size());
-                         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.quads.size(), 1024),
-                                           [&](const tbb::blocked_range<std::size_t>& range) {
-                                             for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                                               const auto& q = mesh.quads[i];
-                                               const std::array<Vec3, 4> corners{mesh.points[q[0]], mesh.points[q[1]],
-                                                                                 mesh.points[q[2]], mesh.points[q[3]]};
-                                               quality.scaled_jacobian[i] = quad_scaled_jacobian(corners, reference);
-                                             }
-                                           });
-                         quality.scaled_jacobian_stats = statistics(quality.scaled_jacobian);
-                         quality.scaled_jacobian_histogram = histogram(quality.scaled_jacobian, -1.0, 1.0, 20);
-                         quality.inverted = static_cast<std::size_t>(
-                             std::count_if(quality.scaled_jacobian.begin(), quality.scaled_jacobian.end(),
-                                           [](double s) { return s <= 0; }));
-                       });
+  tbb::parallel_invoke(
+      [&] { classes = classify_vertices(mesh); },
+      [&] {
+        quality.scaled_jacobian.resize(mesh.quads.size());
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.quads.size(), 1024),
+                          [&](const tbb::blocked_range<std::size_t>& range) {
+                            for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                              const auto& q = mesh.quads[i];
+                              const std::array<Vec3, 4> corners{mesh.points[q[0]], mesh.points[q[1]], mesh.points[q[2]],
+                                                                mesh.points[q[3]]};
+                              quality.scaled_jacobian[i] = quad_scaled_jacobian(corners, reference);
+                            }
+                          });
+        quality.scaled_jacobian_stats = statistics(quality.scaled_jacobian);
+        quality.scaled_jacobian_histogram = histogram(quality.scaled_jacobian, -1.0, 1.0, 20);
+        quality.inverted = static_cast<std::size_t>(std::count_if(
+            quality.scaled_jacobian.begin(), quality.scaled_jacobian.end(), [](double s) { return s <= 0; }));
+      });
 
   for (std::size_t v = 0; v < mesh.points.size(); ++v) {
     if (!classes.used[v]) continue;
