@@ -94,6 +94,35 @@ TEST(MergeParts, RejectsMismatchedInput) {
   EXPECT_THROW(merge_parts(s.sampled, s.parts, s.maps), Error);
 }
 
+TEST(QuadMeshArea, IsTheRegionAreaAndTheSameBitsOnOneAndTwoThreads) {
+  // A 400 x 300 grid of a 4 x 3 rectangle with its interior points moved inside
+  // their cells: the quads tile the rectangle, so their areas sum to 12 whatever the
+  // perturbation, and the parallel sum must not depend on the thread count.
+  const int nx = 400, ny = 300;
+  QuadMesh mesh;
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i) {
+      const bool inside = i > 0 && i < nx && j > 0 && j < ny;
+      const double dx = inside ? 0.3 * std::sin(1.7 * i + 0.3 * j) : 0.0;
+      const double dy = inside ? 0.3 * std::cos(0.9 * i - 1.1 * j) : 0.0;
+      mesh.points.emplace_back((i + dx) * 4.0 / nx, (j + dy) * 3.0 / ny, 0.0);
+    }
+  const auto at = [&](int i, int j) { return static_cast<Index>(j * (nx + 1) + i); };
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) mesh.quads.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+  double one = 0, two = 0;
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    one = quad_mesh_area(mesh);
+  }
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+    two = quad_mesh_area(mesh);
+  }
+  EXPECT_NEAR(one, 12.0, 1e-9);
+  EXPECT_EQ(one, two);  // bit-identical, not merely close
+}
+
 // A deterministic perturbation of the interior points near the separator.
 void perturb(MergedMesh& merged, double amount) {
   for (std::size_t i = 0; i < merged.mesh.points.size(); ++i) {
