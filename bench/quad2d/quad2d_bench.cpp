@@ -142,9 +142,8 @@ void scaling(std::size_t quads) {
     std::sort(list.begin(), list.end(), [](const Run& a, const Run& b) { return a.total < b.total; });
   const auto median = [&](int threads) -> const Run& { return runs[threads][kRounds / 2]; };
   std::printf(
-      "| threads | quads | partition s | sample s | paving s | merge s | relax s | quality s | total s (median of %d) "
-      "| "
-      "fastest s | quads/s (median) | speedup (median) | speedup (fastest) |\n",
+      "| threads | quads | partition s | sample s | paving s | merge s | relax s | quality s "
+      "| total s (median of %d) | fastest s | quads/s (median) | speedup (median) | speedup (fastest) |\n",
       kRounds);
   std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const int threads : {1, 2}) {

@@ -17,23 +17,18 @@ MergedMesh merge_parts(const SampledPartition& sampled, std::span<const PavedPar
                        std::span<const std::vector<Index>> boundary_maps) {
   if (parts.size() != sampled.part_loops.size() || boundary_maps.size() != parts.size())
     throw InputError("merge_parts: expected one paved part and one boundary map per part");
-  std::size_t point_count = sampled.points.size(), quad_count = 0;
-  for (std::size_t p = 0; p < parts.size(); ++p) {
-    if (parts[p].points.size() < boundary_maps[p].size())
-      throw InputError("merge_parts: part " + std::to_string(p) + " has fewer points than its boundary");
-    point_count += parts[p].points.size() - boundary_maps[p].size();
-    quad_count += parts[p].quads.size();
-  }
-  if (point_count > kInvalidIndex) throw Error("merge_parts: more points than 32-bit indices can address");
-
   // Where each part's interior points and quads go: prefix sums, so the parts are
   // copied in parallel into their own ranges and the result is the same as copying
   // them in turn (a 20M-quad merge is memory traffic, not work).
   std::vector<std::size_t> point_start(parts.size() + 1, sampled.points.size()), quad_start(parts.size() + 1, 0);
   for (std::size_t p = 0; p < parts.size(); ++p) {
+    if (parts[p].points.size() < boundary_maps[p].size())
+      throw InputError("merge_parts: part " + std::to_string(p) + " has fewer points than its boundary");
     point_start[p + 1] = point_start[p] + parts[p].points.size() - boundary_maps[p].size();
     quad_start[p + 1] = quad_start[p] + parts[p].quads.size();
   }
+  const std::size_t point_count = point_start.back(), quad_count = quad_start.back();
+  if (point_count > kInvalidIndex) throw Error("merge_parts: more points than 32-bit indices can address");
 
   MergedMesh merged;
   merged.size = sampled.size;
