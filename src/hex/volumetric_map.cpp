@@ -49,6 +49,10 @@ namespace structmesh {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// The map untangling's wavefronts (below): a level of fewer points runs on the calling
+// thread, a larger one in blocks of kLevelGrain points.
+constexpr std::size_t kSerialLevel = 32, kLevelGrain = 8;
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 /// Orthonormal frame of a triangle: first edge, in-plane perpendicular, normal (columns).
@@ -339,6 +343,7 @@ VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source
     for (std::size_t v = 0; v < point_count; ++v)
       if (low_tets_of[v] > 0) active.push_back(static_cast<Index>(v));
     std::vector<Index> moved, touched_tets, next_active;
+    std::vector<double> new_volume;
     std::vector<std::uint32_t> touched_at(tet_count, 0);
     std::uint32_t sweep_stamp = 0;
     // Measures the tets of the moved points again; returns the change in the flipped count.
@@ -350,9 +355,16 @@ VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source
           if (touched_at[t] != sweep_stamp) touched_at[t] = sweep_stamp, touched_tets.push_back(t);
       std::ptrdiff_t change = 0;
       next_active = active;
-      for (const Index t : touched_tets) {
+      // The new volumes in parallel, then their bookkeeping in order.
+      new_volume.resize(touched_tets.size());
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, touched_tets.size(), 4096), [&](const auto& range) {
+        for (std::size_t k = range.begin(); k != range.end(); ++k)
+          new_volume[k] = tet_signed_volume(result.parameter, tets.tets[touched_tets[k]]);
+      });
+      for (std::size_t k = 0; k < touched_tets.size(); ++k) {
+        const Index t = touched_tets[k];
         const bool was_flipped = !(volume[t] > 0);
-        volume[t] = tet_signed_volume(result.parameter, tets.tets[t]);
+        volume[t] = new_volume[k];
         change += static_cast<std::ptrdiff_t>(!(volume[t] > 0)) - static_cast<std::ptrdiff_t>(was_flipped);
         const std::uint8_t now_low = !(volume[t] > beta[t]) ? 1 : 0;
         if (now_low == low[t]) continue;
@@ -374,30 +386,73 @@ VolumetricMap volumetric_map(const TetMesh& tets, const TriMesh& boundary_source
     std::vector<std::uint8_t> released(boundary_count, 0);
     std::size_t fewest_flipped = result.flipped;
     int since_fewest = 0;
-    for (int sweep = 0; sweep < options.untangle_sweeps && result.flipped > 0; ++sweep) {
-      moved.clear();
-      for (const Index point : active) {
-        const std::size_t v = point;
-        if (v < boundary_count && !released[v]) continue;
-        Eigen::Matrix3d normal;
-        Vec3 rhs;
-        const double energy = untangle_energy(point, result.parameter[v], &normal, &rhs);
-        if (!(energy > 0)) continue;
-        // Gauss-Newton (the energy is a sum of squares of functions linear in the point),
-        // damped, with backtracking; the volumes are linear in x, so a full step solves the
-        // active set's least squares exactly.
-        const double damping = 1e-6 * normal.trace() + 1e-300;
-        Vec3 step = (normal + damping * Eigen::Matrix3d::Identity()).ldlt().solve(rhs);
-        if (!step.allFinite()) continue;
-        for (int attempt = 0; attempt < 30; ++attempt, step *= 0.5) {
-          const Vec3 candidate = result.parameter[v] + step;
-          if (untangle_energy(point, candidate, nullptr, nullptr) < energy) {
-            result.parameter[v] = candidate;
-            moved.push_back(point);
-            break;
-          }
+    // One point's move; true if it moved.
+    auto untangle_point = [&](Index point) {
+      const std::size_t v = point;
+      Eigen::Matrix3d normal;
+      Vec3 rhs;
+      const double energy = untangle_energy(point, result.parameter[v], &normal, &rhs);
+      if (!(energy > 0)) return false;
+      // Gauss-Newton (the energy is a sum of squares of functions linear in the point),
+      // damped, with backtracking; the volumes are linear in x, so a full step solves the
+      // active set's least squares exactly.
+      const double damping = 1e-6 * normal.trace() + 1e-300;
+      Vec3 step = (normal + damping * Eigen::Matrix3d::Identity()).ldlt().solve(rhs);
+      if (!step.allFinite()) return false;
+      for (int attempt = 0; attempt < 30; ++attempt, step *= 0.5) {
+        const Vec3 candidate = result.parameter[v] + step;
+        if (untangle_energy(point, candidate, nullptr, nullptr) < energy) {
+          result.parameter[v] = candidate;
+          return true;
         }
       }
+      return false;
+    };
+    // A sweep is Gauss-Seidel over the active points in ascending order, run in wavefronts
+    // with the same result: a point's level is one more than the highest level of the points
+    // before it in that order that share a tet with it (its edge neighbours), so each point
+    // reads its neighbours as the serial sweep would (those before it moved, those after it
+    // not yet), and the points of a level, sharing no tet, move in parallel. The closed dog's
+    // map: 300 sweeps of about 5,000 points in about 30 levels each.
+    const CompressedRows neighbours = build_vertex_neighbors(build_edges(tets), point_count);
+    std::vector<std::uint32_t> level_of(point_count, 0), level_stamp(point_count, 0);
+    std::vector<Index> schedule, by_level, level_start, level_next;
+    std::vector<std::uint8_t> moved_flag(point_count, 0);  // per point: moved in this sweep
+    for (int sweep = 0; sweep < options.untangle_sweeps && result.flipped > 0; ++sweep) {
+      moved.clear();
+      schedule.clear();
+      std::uint32_t levels = 0;
+      const auto stamp = static_cast<std::uint32_t>(sweep + 1);
+      for (const Index point : active) {
+        if (point < boundary_count && !released[point]) continue;
+        std::uint32_t level = 0;
+        for (const Index u : neighbours.row(point))
+          if (level_stamp[u] == stamp) level = std::max(level, level_of[u] + 1);
+        level_of[point] = level;
+        level_stamp[point] = stamp;
+        levels = std::max(levels, level + 1);
+        schedule.push_back(point);
+      }
+      // The points by level (a counting sort, ascending within a level).
+      level_start.assign(levels + 1, 0);
+      for (const Index point : schedule) ++level_start[level_of[point] + 1];
+      for (std::uint32_t l = 0; l < levels; ++l) level_start[l + 1] += level_start[l];
+      level_next.assign(level_start.begin(), level_start.end() - 1);
+      by_level.resize(schedule.size());
+      for (const Index point : schedule) by_level[level_next[level_of[point]]++] = point;
+      for (std::uint32_t l = 0; l < levels; ++l) {
+        const std::size_t begin = level_start[l], end = level_start[l + 1];
+        if (end - begin < kSerialLevel) {
+          for (std::size_t k = begin; k < end; ++k) moved_flag[by_level[k]] = untangle_point(by_level[k]);
+        } else {
+          tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, kLevelGrain), [&](const auto& range) {
+            for (std::size_t k = range.begin(); k != range.end(); ++k)
+              moved_flag[by_level[k]] = untangle_point(by_level[k]);
+          });
+        }
+      }
+      for (const Index point : schedule)
+        if (moved_flag[point]) moved.push_back(point);
       const std::size_t flipped_before = result.flipped;
       result.flipped = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(result.flipped) + remeasure_moved());
       if (progress) progress->advance();

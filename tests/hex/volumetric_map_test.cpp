@@ -7,6 +7,7 @@
 #include "structmesh/tetmesh.hpp"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -93,6 +94,39 @@ TEST(VolumetricMap, FoldedInteriorIsUntangled) {
     if (sweeps == 1) {
       EXPECT_GT(partial.flipped, 0u);  // else the check would compare nothing but zeros
     }
+  }
+}
+
+TEST(VolumetricMap, UntanglingSweepsGiveTheSameMapOnOneAndTwoThreads) {
+  // The sweeps run in wavefronts of points that share no tet (volumetric_map.cpp), each
+  // reading its neighbours as the serial sweep in ascending order would: the map must not
+  // depend on how a wavefront is split between threads. A finer bar than above, so that the
+  // wavefronts are large enough to be split.
+  const TriMesh bar = test::subdivided_box(4, 1, 1, 16);
+  const TetMesh tets = solid(bar);
+  const auto squeeze = [](const Vec3& p) {
+    const double s = 1 - 0.95 * std::exp(-4 * (p.x() - 2) * (p.x() - 2));
+    return Vec3(p.x(), 0.5 + (p.y() - 0.5) * s, 0.5 + (p.z() - 0.5) * s);
+  };
+  const TriMesh target = mapped(bar, squeeze);
+  for (const int sweeps : {1, 5, 300}) {
+    VolumetricMapOptions options;
+    options.untangle_sweeps = sweeps;
+    VolumetricMap one, two;
+    {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+      one = volumetric_map(tets, bar, target, options);
+    }
+    {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+      two = volumetric_map(tets, bar, target, options);
+    }
+    ASSERT_GT(one.flipped_before_untangling, 100u);  // a fold large enough for wide wavefronts
+    EXPECT_EQ(one.flipped, two.flipped) << sweeps << " sweeps";
+    ASSERT_EQ(one.parameter.size(), two.parameter.size());
+    std::size_t differing = 0;
+    for (std::size_t i = 0; i < one.parameter.size(); ++i) differing += one.parameter[i] != two.parameter[i];
+    EXPECT_EQ(differing, 0u) << sweeps << " sweeps";
   }
 }
 
