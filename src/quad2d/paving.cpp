@@ -321,7 +321,7 @@ PavedPart Paver::run() {
   return part;
 }
 
-PavedPart pave_whole(const Polygon2& boundary, const PavingOptions& options, bool polish) {
+PavedPart pave_whole(const Polygon2& boundary, const PavingOptions& options, bool polish, int cleanup_passes) {
   // The worst quad that the block meshers accept (MappedMeshOptions); a paved part
   // below it is polished.
   constexpr double kPolishBelow = 0.6;
@@ -340,8 +340,8 @@ PavedPart pave_whole(const Polygon2& boundary, const PavingOptions& options, boo
     try {
       PavedPart part = paver.run();
       part.stats.retries = first_error.empty() ? 0 : 1;
-      const paving::CleanupStats cleanup =
-          paving::clean_up_quads(part.points, part.quads, static_cast<Index>(boundary.points.size()), paver.size());
+      const paving::CleanupStats cleanup = paving::clean_up_quads(
+          part.points, part.quads, static_cast<Index>(boundary.points.size()), paver.size(), cleanup_passes);
       part.stats.cleanup_operations = cleanup.swaps + cleanup.collapses + cleanup.doublets;
       // A part whose worst quad is poor (a row squeezed between fronts) gets the
       // angle polish of its free points; kept only if the worst quad improves.

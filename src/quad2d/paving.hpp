@@ -9,6 +9,7 @@
 // sides of a chord that joined a hole to the outer loop).
 #pragma once
 
+#include "quad2d/quad_cleanup.hpp"
 #include "structmesh/mesh.hpp"
 #include "structmesh/quad2d.hpp"
 
@@ -172,9 +173,11 @@ struct Slot {
   Index id = kInvalidIndex;  // front node, or planned point
 };
 
-/// pave() without the grid interior: paving, retries at other sizes, cleanup, and (if
-/// `polish`) the polish of a part whose worst quad is below 0.6.
-PavedPart pave_whole(const Polygon2& boundary, const PavingOptions& options, bool polish);
+/// pave() without the grid interior: paving, retries at other sizes, cleanup (at most
+/// `cleanup_passes` passes), and (if `polish`) the polish of a part whose worst quad is
+/// below 0.6.
+PavedPart pave_whole(const Polygon2& boundary, const PavingOptions& options, bool polish,
+                     int cleanup_passes = kCleanupPasses);
 
 class Paver {
  public:

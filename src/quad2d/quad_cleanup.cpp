@@ -22,6 +22,8 @@
 
 #include "quad2d/paving.hpp"
 
+#include "structmesh/error.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -35,7 +37,6 @@ namespace {
 
 /// No operation may push the worst quad around it below min(its worst before, kFloor).
 constexpr double kFloor = 0.5;
-constexpr int kMaxPasses = 30;
 /// A gather at p evaluates moves on p's quads; each reads a ring of points around them
 /// and its smoothing two more, and known_to_fail() looks three rings out: four rings.
 constexpr int kDirtyRings = 4;
@@ -96,14 +97,14 @@ class Cleaner {
     return count;
   }
 
-  CleanupStats run() {
+  CleanupStats run(int max_passes) {
     CleanupStats stats;
     stats.irregular_before = irregular();
     std::vector<Candidate> cands;
     // Pass 0 gathers at every point; a later pass only where the previous one changed
     // something within kDirtyRings (see mark_dirty()).
     std::vector<std::uint8_t> dirty(P_.size(), 1);
-    for (int pass = 0; pass < kMaxPasses; ++pass) {
+    for (int pass = 0; pass < max_passes; ++pass) {
       bool any = false;
       const std::uint64_t operations_before = operations_;
       update_potential();
@@ -812,9 +813,10 @@ class Cleaner {
 }  // namespace
 
 CleanupStats clean_up_quads(std::vector<Vec2>& points, std::vector<std::array<Index, 4>>& quads, Index fixed_count,
-                            double size) {
+                            double size, int max_passes) {
+  if (max_passes < 1) throw InputError("clean_up_quads: max_passes must be at least 1");
   Cleaner cleaner(points, quads, fixed_count, size);
-  return cleaner.run();
+  return cleaner.run(max_passes);
 }
 
 }  // namespace structmesh::paving

@@ -31,8 +31,10 @@ struct CleanupStats {
 /// (they stay in their relative order after the fixed points). `size` is the target
 /// edge length (scale of the tolerances). Every quad stays valid (scaled Jacobian >
 /// 0) and no operation pushes the worst quad around it below min(its worst before,
-/// 0.5). Deterministic: the same input gives the same bits.
+/// 0.5). Deterministic: the same input gives the same bits. At most `max_passes` passes
+/// (each gathers moves at the irregular points the pass before left or changed).
+inline constexpr int kCleanupPasses = 30;
 CleanupStats clean_up_quads(std::vector<Vec2>& points, std::vector<std::array<Index, 4>>& quads, Index fixed_count,
-                            double size);
+                            double size, int max_passes = kCleanupPasses);
 
 }  // namespace structmesh::paving

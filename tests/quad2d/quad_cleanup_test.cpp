@@ -5,6 +5,8 @@
 #include "quad2d/quad_cleanup.hpp"
 #include "quad2d/paving.hpp"
 
+#include "structmesh/error.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -231,6 +233,32 @@ TEST(QuadCleanup, PavedShapesKeepBoundaryValidityAndGetMoreRegular) {
   std::printf("[cleanup] wobbly shapes: %zu irregular interior points before, %zu after\n", before, after);
   // The cleanup must do real work on paved meshes, not just keep them valid.
   EXPECT_LT(static_cast<double>(after), 0.8 * static_cast<double>(before));
+}
+
+TEST(QuadCleanup, PassCapStopsEarlyAndStillKeepsTheMeshValid) {
+  // The bands of large parts get fewer passes (grid_interior.cpp): a capped cleanup must stop
+  // at its cap, keep the boundary and validity, and still make the mesh more regular.
+  const Polygon2 poly = wobbly(2 * 80, 104729);
+  paving::Paver paver(poly, {});
+  const PavedPart part = paver.run();
+  const auto fixed = static_cast<Index>(poly.points.size());
+  auto full_points = part.points;
+  auto full_quads = part.quads;
+  const auto full = paving::clean_up_quads(full_points, full_quads, fixed, paver.size());
+  ASSERT_GT(full.passes, 2) << "the shape needs more passes than the cap below, else the cap is not exercised";
+  auto points = part.points;
+  auto quads = part.quads;
+  const auto capped = paving::clean_up_quads(points, quads, fixed, paver.size(), 2);
+  EXPECT_EQ(capped.passes, 2);
+  EXPECT_LT(capped.irregular_after, capped.irregular_before);
+  std::vector<std::pair<Index, Index>> boundary;
+  for (Index i = 0; i < fixed; ++i) boundary.emplace_back(i, (i + 1) % fixed);
+  expect_conforming(quads, boundary);
+  EXPECT_GT(min_quality(points, quads), 0);
+  for (Index p = 0; p < fixed; ++p) EXPECT_EQ(points[p], poly.points[p]) << "boundary point " << p << " moved";
+  auto again = part.points;
+  auto again_quads = part.quads;
+  EXPECT_THROW(paving::clean_up_quads(again, again_quads, fixed, paver.size(), 0), InputError);
 }
 
 }  // namespace
