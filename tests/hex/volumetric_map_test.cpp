@@ -26,6 +26,15 @@ TriMesh mapped(TriMesh surface, const auto& f) {
   return surface;
 }
 
+/// A map that squeezes a bar along x = 2 (its middle) to 1 - depth of its width, over a
+/// Gaussian exp(-sharpness (x - 2)^2) along the bar.
+auto squeeze_middle(double depth, double sharpness) {
+  return [depth, sharpness](const Vec3& p) {
+    const double s = 1 - depth * std::exp(-sharpness * (p.x() - 2) * (p.x() - 2));
+    return Vec3(p.x(), 0.5 + (p.y() - 0.5) * s, 0.5 + (p.z() - 0.5) * s);
+  };
+}
+
 TEST(VolumetricMap, IdentityAndRigidMotionsAreReproducedExactly) {
   const TriMesh box = test::subdivided_box(2, 1.5, 1, 6);
   const TetMesh tets = solid(box);
@@ -76,10 +85,7 @@ TEST(VolumetricMap, FoldedInteriorIsUntangled) {
   // repairs every one.
   const TriMesh bar = test::subdivided_box(4, 1, 1, 8);
   const TetMesh tets = solid(bar);
-  const auto squeeze = [](const Vec3& p) {
-    const double s = 1 - 0.9 * std::exp(-8 * (p.x() - 2) * (p.x() - 2));
-    return Vec3(p.x(), 0.5 + (p.y() - 0.5) * s, 0.5 + (p.z() - 0.5) * s);
-  };
+  const auto squeeze = squeeze_middle(0.9, 8);
   const VolumetricMap map = volumetric_map(tets, bar, mapped(bar, squeeze));
   EXPECT_GT(map.flipped_before_untangling, 0u);
   EXPECT_EQ(map.flipped, 0u) << map.flipped_before_untangling << " flipped before untangling";
@@ -104,11 +110,7 @@ TEST(VolumetricMap, UntanglingSweepsGiveTheSameMapOnOneAndTwoThreads) {
   // wavefronts are large enough to be split.
   const TriMesh bar = test::subdivided_box(4, 1, 1, 16);
   const TetMesh tets = solid(bar);
-  const auto squeeze = [](const Vec3& p) {
-    const double s = 1 - 0.95 * std::exp(-4 * (p.x() - 2) * (p.x() - 2));
-    return Vec3(p.x(), 0.5 + (p.y() - 0.5) * s, 0.5 + (p.z() - 0.5) * s);
-  };
-  const TriMesh target = mapped(bar, squeeze);
+  const TriMesh target = mapped(bar, squeeze_middle(0.95, 4));
   for (const int sweeps : {1, 5, 300}) {
     VolumetricMapOptions options;
     options.untangle_sweeps = sweeps;
