@@ -49,11 +49,11 @@ namespace structmesh {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 // The map untangling's wavefronts (below): a level of fewer points runs on the calling
 // thread, a larger one in blocks of kLevelGrain points.
 constexpr std::size_t kSerialLevel = 32, kLevelGrain = 8;
-double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 /// Orthonormal frame of a triangle: first edge, in-plane perpendicular, normal (columns).
 bool triangle_frame(const Vec3& a, const Vec3& b, const Vec3& c, Eigen::Matrix3d& frame) {
