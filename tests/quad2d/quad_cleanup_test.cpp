@@ -85,9 +85,10 @@ void expect_conforming(const Quads& quads, const std::vector<std::pair<Index, In
   EXPECT_EQ(open, expected);
 }
 
-std::vector<std::pair<Index, Index>> grid_boundary(const Grid& g) {
+/// The directed edges of a loop of the first `count` points, in order.
+std::vector<std::pair<Index, Index>> loop_edges(Index count) {
   std::vector<std::pair<Index, Index>> b;
-  for (Index i = 0; i < g.fixed; ++i) b.emplace_back(i, (i + 1) % g.fixed);
+  for (Index i = 0; i < count; ++i) b.emplace_back(i, (i + 1) % count);
   return b;
 }
 
@@ -128,7 +129,7 @@ TEST(QuadCleanup, RotatedEdgeGoesBackToTheGrid) {
   EXPECT_EQ(g.quads.size(), 36U);
   EXPECT_EQ(g.points.size(), 49U);
   for (Index p = 0; p < g.fixed; ++p) EXPECT_EQ(g.points[p], boundary[p]) << "boundary point " << p << " moved";
-  expect_conforming(g.quads, grid_boundary(g));
+  expect_conforming(g.quads, loop_edges(g.fixed));
   EXPECT_GT(min_quality(g.points, g.quads), 0.8);
 }
 
@@ -157,7 +158,7 @@ TEST(QuadCleanup, SplitVertexCollapsesBack) {
   EXPECT_EQ(irregular_interior(g.points.size(), g.quads, g.fixed), 0);
   EXPECT_EQ(g.quads.size(), 36U);
   EXPECT_EQ(g.points.size(), 49U);
-  expect_conforming(g.quads, grid_boundary(g));
+  expect_conforming(g.quads, loop_edges(g.fixed));
   EXPECT_GT(min_quality(g.points, g.quads), 0.8);
 }
 
@@ -206,9 +207,7 @@ TEST(QuadCleanup, PavedShapesKeepBoundaryValidityAndGetMoreRegular) {
       EXPECT_EQ(points[p].x(), poly.points[p].x()) << "seed " << seed << ": boundary point " << p << " moved";
       EXPECT_EQ(points[p].y(), poly.points[p].y()) << "seed " << seed << ": boundary point " << p << " moved";
     }
-    std::vector<std::pair<Index, Index>> boundary;
-    for (Index i = 0; i < fixed; ++i) boundary.emplace_back(i, (i + 1) % fixed);
-    expect_conforming(quads, boundary);
+    expect_conforming(quads, loop_edges(fixed));
     const double worst_after = min_quality(points, quads);
     EXPECT_GT(worst_after, 0) << "seed " << seed;
     EXPECT_GE(worst_after, std::min(worst_before, 0.5) - 1e-12) << "seed " << seed;
@@ -251,9 +250,7 @@ TEST(QuadCleanup, PassCapStopsEarlyAndStillKeepsTheMeshValid) {
   const auto capped = paving::clean_up_quads(points, quads, fixed, paver.size(), 2);
   EXPECT_EQ(capped.passes, 2);
   EXPECT_LT(capped.irregular_after, capped.irregular_before);
-  std::vector<std::pair<Index, Index>> boundary;
-  for (Index i = 0; i < fixed; ++i) boundary.emplace_back(i, (i + 1) % fixed);
-  expect_conforming(quads, boundary);
+  expect_conforming(quads, loop_edges(fixed));
   EXPECT_GT(min_quality(points, quads), 0);
   for (Index p = 0; p < fixed; ++p) EXPECT_EQ(points[p], poly.points[p]) << "boundary point " << p << " moved";
   auto again = part.points;
