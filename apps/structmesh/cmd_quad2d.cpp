@@ -113,7 +113,7 @@ Action add_quad2d_command(CLI::App& command, const GlobalOptions& global) {
       ->check(CLI::PositiveNumber)
       ->excludes(size);
   command.add_option("-k,--parts", o.partition.parts,
-                     "Parts (default: 1 below 20k quads, else max(8, 1 per 250k quads, 2 per MPI rank))");
+                     "Parts (default: 1 below 20k quads, else max(8, 1 per 500k quads, 2 per MPI rank))");
   command.add_option("--method", settings->method, "Partitioning: cvtgp (default), cvt, metis, madd or exact")
       ->check(CLI::IsMember({"cvtgp", "cvt", "metis", "madd", "exact"}));
   command.add_option("--cells", o.partition.cells,

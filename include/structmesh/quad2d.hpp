@@ -343,7 +343,7 @@ std::vector<PavedPart> pave_parts(const Quad2dSetup& setup, std::span<const std:
 Quad2dResult mesh_region_quads(const Polygon2& region, const Quad2dOptions& options = {});
 
 /// Parts for an expected quad count when none are asked for: 1 below 20k quads,
-/// else the largest of 8, one per 250k quads and two per process (MPI rank).
+/// else the largest of 8, one per 500k quads and two per process (MPI rank).
 /// Independent of the thread count.
 std::size_t default_part_count(std::size_t expected_quads, std::size_t processes);
 

@@ -12,12 +12,13 @@
 // The grid is rotated to the dominant direction of the boundary (the length-weighted
 // mean of 4θ over its segments, so that a rectangle gets an aligned grid). A cell is
 // kept when it lies inside the part and its centre is at least kMarginCells + √2/2 cell
-// sizes from every boundary segment; only the largest 4-connected set of kept cells
-// stays, cleaned until its boundary is a set of simple lattice loops: no cell with two
+// sizes from every boundary segment; the 4-connected sets of kept cells that are not
+// tiny stay (each a grid of its own; a part that narrows somewhere has several),
+// cleaned until their boundary is a set of simple lattice loops: no cell with two
 // opposite empty neighbours (a corridor one cell wide), no two cells that touch only at
 // a corner, no hole without a hole of the part inside. The band between the part's loops
 // and the grid's loops is paved with the grid's boundary vertices fixed; a hole of the
-// grid (around an island of the part) is paved on its own. The lattice loops have an
+// grid (around an island of the part, or around a smaller grid) is paved on its own. The lattice loops have an
 // even length, so every band keeps the parity an all-quad mesh needs whenever the
 // part's loops inside it do. Then the points around the seam between grid and band
 // are relaxed together (untangle_quads' barrier energy, never folding a quad).
@@ -44,6 +45,11 @@ namespace {
 /// Cells whose centre is closer than this many sizes (plus half a diagonal) to the
 /// boundary are left to paving: about two rows from each side of the band.
 constexpr double kMarginCells = 2.0;
+/// A set of cells apart from the largest is a grid of its own from this many cells on.
+/// Parts whose interior narrows somewhere (a Gulf part at 20M quads: two lobes of 400k
+/// quads each joined by a neck under the margin) had the smaller lobe paved whole,
+/// at six times the cost of the rest of the part; a set this small saves little paving.
+constexpr std::size_t kMinGridCells = 256;
 /// Rings of quads on each side of the seam that the final relaxation moves.
 constexpr int kSeamRings = 3;
 /// Laplacian sweeps over them.
@@ -121,13 +127,15 @@ std::vector<std::size_t> label_sets(const Lattice& L, const std::vector<std::uin
   return sizes;
 }
 
-/// Keeps the largest 4-connected set of cells with keep = 1 (the first of equal ones).
-void keep_largest_component(const Lattice& L, std::vector<std::uint8_t>& keep) {
+/// Keeps the 4-connected sets of cells with keep = 1 that hold at least kMinGridCells
+/// cells (the largest one whatever its size).
+void keep_large_components(const Lattice& L, std::vector<std::uint8_t>& keep) {
   std::vector<std::int32_t> label;
   const std::vector<std::size_t> sizes = label_sets(L, keep, 1, label);
   if (sizes.empty()) return;
-  const auto best = static_cast<std::int32_t>(std::max_element(sizes.begin(), sizes.end()) - sizes.begin());
-  for (std::size_t c = 0; c < keep.size(); ++c) keep[c] = keep[c] && label[c] == best;
+  const auto largest = static_cast<std::int32_t>(std::max_element(sizes.begin(), sizes.end()) - sizes.begin());
+  for (std::size_t c = 0; c < keep.size(); ++c)
+    keep[c] = keep[c] && (label[c] == largest || sizes[static_cast<std::size_t>(label[c])] >= kMinGridCells);
 }
 
 /// Removes cells until the kept set's boundary is a set of simple lattice loops: no
@@ -255,14 +263,14 @@ std::optional<PavedPart> pave_with_grid_interior(const Polygon2& boundary, const
     }
   }
 
-  // The largest clean set of cells; holes of it without a hole of the part are filled.
+  // The large clean sets of cells; holes of them without a hole of the part are filled.
   std::int32_t empty_count = 0;
   std::vector<std::int32_t> empty_label;
   std::vector<std::int32_t> ring_label(boundary.ring_count(), 0);
   for (int round = 0;; ++round) {
     if (round == 8) return std::nullopt;
-    keep_largest_component(L, keep);
-    while (remove_thin_cells(L, keep)) keep_largest_component(L, keep);
+    keep_large_components(L, keep);
+    while (remove_thin_cells(L, keep)) keep_large_components(L, keep);
     empty_label = label_empty(L, keep, empty_count);
     std::vector<std::uint8_t> has_ring(static_cast<std::size_t>(empty_count), 0), odd(has_ring.size(), 0);
     std::vector<std::array<std::int64_t, 2>> ring_cell(boundary.ring_count());
@@ -333,25 +341,40 @@ std::optional<PavedPart> pave_with_grid_interior(const Polygon2& boundary, const
     for (Index p = boundary.ring_offsets[r]; p < boundary.ring_offsets[r + 1]; ++p) band.source.push_back(p);
   };
   add_part_ring(bands[0], 0);
+  // Every lattice loop, then the loops into their bands: a band k > 0 (a hole of one
+  // set of cells) has that hole's loop, counter-clockwise, as its first ring and the
+  // outer loops of the sets inside the hole as holes of its own.
+  struct LatticeLoop {
+    std::int32_t label;
+    bool counter_clockwise;
+    std::vector<Vec2> points;
+    std::vector<Index> source;
+  };
+  std::vector<LatticeLoop> lattice_loops;
   std::vector<std::uint8_t> visited(vertex_count, 0);
   for (std::size_t v = 0; v < vertex_count; ++v) {
     if (next_vertex[v] == kInvalidIndex || visited[v]) continue;
-    std::vector<Vec2> loop;
-    std::vector<Index> source;
-    const std::int32_t label = left_label[v];
+    LatticeLoop loop{left_label[v], false, {}, {}};
     for (std::size_t at = v; !visited[at]; at = next_vertex[at]) {
       visited[at] = 1;
-      loop.push_back(L.position(at));
-      source.push_back(part_count + static_cast<Index>(at));
-      if (left_label[at] != label) return std::nullopt;  // cannot happen for a clean set
+      loop.points.push_back(L.position(at));
+      loop.source.push_back(part_count + static_cast<Index>(at));
+      if (left_label[at] != loop.label) return std::nullopt;  // cannot happen for a clean set
     }
-    Component& band = bands[static_cast<std::size_t>(label)];
-    if (label > 0 && band.polygon.ring_count() > 0) return std::nullopt;  // two loops around one hole
-    // Band 0 already has the part's outer loop as its first ring; a hole's band gets
-    // this loop (counter-clockwise) as its first.
-    band.polygon.add_ring(loop);
-    band.source.insert(band.source.end(), source.begin(), source.end());
+    loop.counter_clockwise = signed_area(loop.points) > 0;
+    // The empty set around the lattice (label 0) meets only outer (clockwise) loops.
+    if (loop.label == 0 && loop.counter_clockwise) return std::nullopt;
+    lattice_loops.push_back(std::move(loop));
   }
+  for (const bool first : {true, false})
+    for (const LatticeLoop& loop : lattice_loops) {
+      if ((loop.label > 0 && loop.counter_clockwise) != first) continue;
+      Component& band = bands[static_cast<std::size_t>(loop.label)];
+      if (first && band.polygon.ring_count() > 0) return std::nullopt;                      // two loops around one hole
+      if (!first && loop.label > 0 && band.polygon.ring_count() == 0) return std::nullopt;  // no outer loop
+      band.polygon.add_ring(loop.points);
+      band.source.insert(band.source.end(), loop.source.begin(), loop.source.end());
+    }
   for (std::size_t r = 1; r < boundary.ring_count(); ++r)
     add_part_ring(bands[static_cast<std::size_t>(ring_label[r])], r);
   for (const Component& band : bands)

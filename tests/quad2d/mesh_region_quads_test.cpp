@@ -104,6 +104,15 @@ TEST(MeshRegionQuads, KeyPartsWithoutAPlannedLayoutGetPolarBlocksBeforePaving) {
   EXPECT_NEAR(result.report.mesh_area, result.report.region_area, 1e-5 * result.report.region_area);
 }
 
+TEST(MeshRegionQuads, DefaultPartCountGrowsWithTheQuadsAndTheRanks) {
+  EXPECT_EQ(default_part_count(19999, 1), 1u);      // small meshes stay whole
+  EXPECT_EQ(default_part_count(20000, 1), 8u);      // at least 8 for the threads
+  EXPECT_EQ(default_part_count(2000000, 1), 8u);    // 4 by size
+  EXPECT_EQ(default_part_count(20000000, 1), 40u);  // one per 500k quads
+  EXPECT_EQ(default_part_count(20000001, 1), 41u);
+  EXPECT_EQ(default_part_count(2000000, 16), 32u);  // two per MPI rank
+}
+
 TEST(MeshRegionQuads, RejectsNegativeFilterSettings) {
   Polygon2 square;
   square.add_ring(std::vector<Vec2>{{0, 0}, {1, 0}, {1, 1}, {0, 1}});

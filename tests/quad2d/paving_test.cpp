@@ -514,6 +514,41 @@ TEST(GridInterior, NoisyCoastWithIslandGetsAGrid) {
   EXPECT_GT(m.avg, 0.95);
 }
 
+TEST(GridInterior, PartThatNarrowsGetsAGridInEachLobe) {
+  // Two 120 x 120 squares joined by a corridor 4 wide: no cell of the corridor is far
+  // enough from its walls, so the kept cells are two sets, and each gets a grid (with
+  // only the larger set one lobe would be paved whole).
+  const Polygon2 poly = ring_polygon(polyline({{0, 0},
+                                               {120, 0},
+                                               {120, 58},
+                                               {150, 58},
+                                               {150, 0},
+                                               {270, 0},
+                                               {270, 120},
+                                               {150, 120},
+                                               {150, 62},
+                                               {120, 62},
+                                               {120, 120},
+                                               {0, 120}},
+                                              1.0));
+  ASSERT_EQ(poly.points.size() % 2, 0u);
+  const PavedPart part = pave(poly, {.size = 1.0});
+  const Measured m = check_paved(poly, part);
+  report("grid interior dumbbell", m, part);
+  EXPECT_GT(part.stats.grid_interior_quads, m.quads * 8 / 10);
+  std::size_t left = 0, right = 0;
+  for (const auto& q : part.quads) {
+    const double x = 0.25 * (part.points[q[0]] + part.points[q[1]] + part.points[q[2]] + part.points[q[3]]).x();
+    const Vec2 e = part.points[q[1]] - part.points[q[0]], f = part.points[q[2]] - part.points[q[1]];
+    const bool square = std::abs(e.norm() - 1) < 1e-9 && std::abs(e.dot(f)) < 1e-9;
+    if (square) (x < 120 ? left : right) += x < 120 || x > 150 ? 1 : 0;
+  }
+  EXPECT_GT(left, 10000u);
+  EXPECT_GT(right, 10000u);
+  EXPECT_GT(m.min, 0.5);
+  EXPECT_GT(m.avg, 0.98);
+}
+
 TEST(GridInterior, StripTooThinForAGridIsPavedWhole) {
   // 25k quads of area but only 5 elements wide: no cell is far enough from the boundary.
   const Polygon2 poly = ring_polygon(rectangle(5000, 5));
