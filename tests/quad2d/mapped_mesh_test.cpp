@@ -180,6 +180,25 @@ TEST(MappedMesh, UnitSquareIsAPerfectGrid) {
     }
 }
 
+TEST(MappedMesh, ASideSpikeTooSharpForTheThresholdGivesNoGrid) {
+  // A side point of a 20 x 20 square pulled out: its interior angle is split between
+  // two quads of the grid, each needing at least asin(0.6) = 36.9 degrees. A spike of
+  // 22.6 degrees (the point 5 out) cannot reach 0.6 whatever the interior points; a
+  // bump of 146 degrees (0.3 out) can.
+  for (const double out : {5.0, 0.3}) {
+    Part part = rectangle(20, 20, 20, 20);
+    ASSERT_EQ(part.corners[0], 0u);
+    part.polygon.points[10] = Vec2(10, -out);
+    const auto grid = mapped_mesh(part.polygon, part.corners, {.min_scaled_jacobian = 0.6});
+    if (out > 1) {
+      EXPECT_FALSE(grid.has_value());
+    } else {
+      ASSERT_TRUE(grid.has_value());
+      EXPECT_GE(check_mesh(part, *grid).min, 0.6);
+    }
+  }
+}
+
 TEST(MappedMesh, LoopStartAnywhere) {
   // The same wavy part with its loop starting in the middle of a side: the side that
   // crosses the loop's start is meshed like any other.
