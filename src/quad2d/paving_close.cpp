@@ -184,20 +184,15 @@ class TemplateSearch {
   }
 
  private:
-  double quality_around(const Tiling& t, int ref, const Vec2& p) const {
+  /// The worst scaled Jacobian of the quads `incident` (indices into t.quads, each with
+  /// `ref` at one of its corners) with `ref` at p.
+  double quality_around(const Tiling& t, const std::vector<std::pair<int, int>>& incident, const Vec2& p) const {
     double worst = 1;
-    for (const auto& q : t.quads) {
+    for (const auto& [quad, corner] : incident) {
+      const auto& q = t.quads[static_cast<std::size_t>(quad)];
       std::array<Vec2, 4> c;
-      bool has = false;
-      for (int j = 0; j < 4; ++j) {
-        if (q[j] == ref) {
-          c[j] = p;
-          has = true;
-        } else {
-          c[j] = at(t, q[j]);
-        }
-      }
-      if (has) worst = std::min(worst, scaled_jacobian(c[0], c[1], c[2], c[3]));
+      for (int j = 0; j < 4; ++j) c[j] = j == corner ? p : at(t, q[j]);
+      worst = std::min(worst, scaled_jacobian(c[0], c[1], c[2], c[3]));
     }
     return worst;
   }
@@ -217,23 +212,29 @@ class TemplateSearch {
   }
   void optimize(Tiling& t, int ref, int iterations) {
     Vec2& p = t.extra[ref - n_];
+    // The quads around ref, in tiling order (a point is at most one corner of a quad),
+    // so every trial position below evaluates only those.
+    std::vector<std::pair<int, int>>& incident = incident_;
+    incident.clear();
     // Start from the mean of the ideal parallelogram points of the quads around it.
     Vec2 ideal(0, 0);
     int count = 0;
     double len = 0;
-    for (const auto& q : t.quads) {
+    for (std::size_t k = 0; k < t.quads.size(); ++k) {
+      const auto& q = t.quads[k];
       for (int j = 0; j < 4; ++j) {
         if (q[j] != ref) continue;
         const Vec2 a = at(t, q[(j + 1) % 4]), b = at(t, q[(j + 2) % 4]), c = at(t, q[(j + 3) % 4]);
         ideal += a + c - b;
         len += (a - c).norm();
         ++count;
+        incident.emplace_back(static_cast<int>(k), j);
       }
     }
     if (count == 0) return;
     ideal /= count;
-    double now = quality_around(t, ref, p);
-    const double cand = quality_around(t, ref, ideal);
+    double now = quality_around(t, incident, p);
+    const double cand = quality_around(t, incident, ideal);
     if (cand > now) {
       p = ideal;
       now = cand;
@@ -242,7 +243,7 @@ class TemplateSearch {
     for (int it = 0; it < iterations; ++it) {
       bool improved = false;
       for (const Vec2& d : {Vec2(1, 0), Vec2(-1, 0), Vec2(0, 1), Vec2(0, -1)}) {
-        const double q = quality_around(t, ref, p + step * d);
+        const double q = quality_around(t, incident, p + step * d);
         if (q > now) {
           now = q;
           p += step * d;
@@ -256,6 +257,7 @@ class TemplateSearch {
   std::vector<Vec2> boundary_;
   std::size_t n_;
   std::vector<Tiling> tilings_;
+  std::vector<std::pair<int, int>> incident_;  // optimize()'s scratch: (quad, corner) around the point
 };
 
 bool inside_ring(const std::vector<Vec2>& ring, const Vec2& p) {
