@@ -9,6 +9,7 @@
 // Jacobian (+z reference) reaches the threshold, if need be after the best grid is
 // polished as a whole (polish_quads()); otherwise the caller paves.
 #include "quad2d/mapped_mesh.hpp"
+#include "quad2d/paving.hpp"
 #include "quad2d/untangle_quads.hpp"
 
 #include "structmesh/error.hpp"
@@ -111,10 +112,8 @@ bool corner_angles_can_reach(std::span<const Vec2> ring, const std::array<std::s
   constexpr double kSlack = 1e-9;  // radians: only a clear violation rules the grid out
   const std::size_t n = ring.size();
   for (std::size_t i = 0; i < n; ++i) {
-    const Vec2 to_next = ring[(i + 1) % n] - ring[i], to_previous = ring[(i + n - 1) % n] - ring[i];
-    // The interior angle of a counter-clockwise loop at point i, in (0, 2 pi).
-    double angle = std::atan2(to_next.x() * to_previous.y() - to_next.y() * to_previous.x(), to_next.dot(to_previous));
-    if (angle < 0) angle += 2 * std::numbers::pi;
+    // The interior angle of a counter-clockwise loop at point i (as the paver measures it).
+    const double angle = paving::ccw_angle(ring[(i + 1) % n] - ring[i], ring[(i + n - 1) % n] - ring[i]);
     const double quads = std::find(corners.begin(), corners.end(), i) != corners.end() ? 1.0 : 2.0;
     if (angle < quads * smallest - kSlack || angle > quads * largest + kSlack) return false;
   }

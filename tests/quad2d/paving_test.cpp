@@ -449,19 +449,20 @@ TEST(Paving, Deterministic) {
 // ---- grid interior (pave_with_grid_interior): large parts get a grid of squares inside
 // and paving only along their boundary.
 
-/// Quads of the part that are squares of edge h (the grid's quads, up to rounding).
-std::size_t square_quads(const PavedPart& part, double h) {
-  std::size_t count = 0;
-  for (const auto& q : part.quads) {
-    bool square = true;
-    for (int j = 0; j < 4 && square; ++j) {
-      const Vec2 e = part.points[q[(j + 1) % 4]] - part.points[q[j]];
-      const Vec2 f = part.points[q[(j + 2) % 4]] - part.points[q[(j + 1) % 4]];
-      square = std::abs(e.norm() - h) < 1e-9 * h && std::abs(e.dot(f)) < 1e-9 * h * h;
-    }
-    count += square ? 1 : 0;
+/// Whether quad q of the part is a square of edge h (a grid quad, up to rounding).
+bool is_square(const PavedPart& part, const std::array<Index, 4>& q, double h) {
+  for (int j = 0; j < 4; ++j) {
+    const Vec2 e = part.points[q[(j + 1) % 4]] - part.points[q[j]];
+    const Vec2 f = part.points[q[(j + 2) % 4]] - part.points[q[(j + 1) % 4]];
+    if (!(std::abs(e.norm() - h) < 1e-9 * h && std::abs(e.dot(f)) < 1e-9 * h * h)) return false;
   }
-  return count;
+  return true;
+}
+
+/// Quads of the part that are squares of edge h (the grid's quads).
+std::size_t square_quads(const PavedPart& part, double h) {
+  return static_cast<std::size_t>(
+      std::count_if(part.quads.begin(), part.quads.end(), [&](const auto& q) { return is_square(part, q, h); }));
 }
 
 TEST(GridInterior, LargeDiskIsAGridInsideAPavedBand) {
@@ -536,12 +537,13 @@ TEST(GridInterior, PartThatNarrowsGetsAGridInEachLobe) {
   const Measured m = check_paved(poly, part);
   report("grid interior dumbbell", m, part);
   EXPECT_GT(part.stats.grid_interior_quads, m.quads * 8 / 10);
+  // Squares in each lobe (left of the corridor, right of it).
   std::size_t left = 0, right = 0;
   for (const auto& q : part.quads) {
+    if (!is_square(part, q, 1.0)) continue;
     const double x = 0.25 * (part.points[q[0]] + part.points[q[1]] + part.points[q[2]] + part.points[q[3]]).x();
-    const Vec2 e = part.points[q[1]] - part.points[q[0]], f = part.points[q[2]] - part.points[q[1]];
-    const bool square = std::abs(e.norm() - 1) < 1e-9 && std::abs(e.dot(f)) < 1e-9;
-    if (square) (x < 120 ? left : right) += x < 120 || x > 150 ? 1 : 0;
+    if (x < 120) ++left;
+    if (x > 150) ++right;
   }
   EXPECT_GT(left, 10000u);
   EXPECT_GT(right, 10000u);
